@@ -1,0 +1,159 @@
+"""Every simulation parameter in one dataclass, with the handout's defaults.
+
+A scene is a TOML file whose keys are the field names below (the handout's
+names: ``particle_mass``, ``initial_velocity``, ...). Values come, in order of
+precedence, from command-line flags, then the scene file, then these defaults.
+``validate()`` turns every bad value into one ``UserError`` line.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+import tomllib
+from dataclasses import dataclass, field, fields
+from pathlib import Path
+
+from .errors import UserError
+
+REPO_ROOT = Path(__file__).resolve().parent.parent
+ASSETS = REPO_ROOT / "assets"
+FRAME_TIME = 1.0 / 60.0  # one rendered frame, as in the handout
+
+
+@dataclass
+class SimConfig:
+    # body
+    mesh: str = str(ASSETS / "sphere.obj")
+    scale: float = 0.3  # the handout's read_obj_file(..., scale=0.3)
+    position: tuple = (0.0, 0.0, 0.0)  # initial centre of mass, world frame
+    particles: str = "vertex"  # "vertex": mesh vertices; "volume": grid cells inside the mesh
+    grid: int = 32  # volume sampling: cells along the longest side
+    particle_mass: float = 1.0
+    initial_velocity: tuple = (0.0, 0.0, 0.0)
+    initial_angular_velocity: tuple = (0.0, 0.0, 0.0)  # world frame, rad/s
+    # world
+    gravity: tuple = (0.0, -9.8, 0.0)
+    walls: bool = True  # the box: floor y = floor, walls x, z = ±wall
+    floor: float = -1.0
+    wall: float = 1.0
+    collision_stiffness: float = 1e4  # penalty spring, N/m per particle
+    velocity_damping_stiffness: float = 1e3  # damping of the normal velocity, N s/m
+    friction_stiffness: float = 0.1  # Coulomb coefficient: |f_t| <= mu |f_n|
+    # time
+    dt: float = 1e-3
+    integrator: str = "euler"  # euler (the slides) | symplectic | rk4
+    # run
+    frames: int | None = None
+    fp64: bool = False
+    arch: str = "cpu"
+    seed: int = 0
+    resolution: tuple = (1280, 720)
+
+    @property
+    def substeps(self) -> int:
+        """Substeps per rendered frame: int(1/60 // dt), as the handout does (16 at 1e-3)."""
+        return max(1, int(FRAME_TIME // self.dt))
+
+    def replace(self, **changes) -> "SimConfig":
+        return dataclasses.replace(self, **changes)
+
+    def validate(self) -> "SimConfig":
+        for name in ("scale", "particle_mass", "dt"):
+            _positive(name, getattr(self, name))
+        for name in ("collision_stiffness", "velocity_damping_stiffness", "friction_stiffness"):
+            _non_negative(name, getattr(self, name))
+        for name in ("floor", "wall"):
+            _finite(name, getattr(self, name))
+        if self.wall <= 0:
+            raise UserError(f"wall = {self.wall}: the walls stand at x, z = ±wall; use a positive value")
+        for name in ("position", "initial_velocity", "initial_angular_velocity", "gravity"):
+            object.__setattr__(self, name, _vec3(name, getattr(self, name)))
+        if self.dt > FRAME_TIME:
+            raise UserError(f"dt = {self.dt} is longer than a frame (1/60 s); use --dt 1e-3 or smaller")
+        if self.particles not in ("vertex", "volume"):
+            raise UserError(f"particles = {self.particles!r}: use 'vertex' or 'volume'")
+        if self.integrator not in ("euler", "symplectic", "rk4"):
+            raise UserError(f"integrator = {self.integrator!r}: use 'euler', 'symplectic' or 'rk4'")
+        if self.arch not in ("cpu", "gpu"):
+            raise UserError(f"arch = {self.arch!r}: use 'cpu' or 'gpu'")
+        if not isinstance(self.grid, int) or isinstance(self.grid, bool) or not 2 <= self.grid <= 1024:
+            raise UserError(f"grid = {self.grid!r}: use a whole number of cells from 2 to 1024, e.g. --grid 64")
+        if self.frames is not None and (not isinstance(self.frames, int) or self.frames <= 0):
+            raise UserError(f"frames = {self.frames}: use a positive number of frames, e.g. --frames 300")
+        res = tuple(self.resolution)
+        if len(res) != 2 or not all(isinstance(r, int) and 16 <= r <= 8192 for r in res):
+            raise UserError(f"resolution = {self.resolution}: use two whole numbers, e.g. --resolution 1280 720")
+        return self
+
+
+SCENE_KEYS = {f.name for f in fields(SimConfig)}
+_VECTOR_KEYS = {"position", "initial_velocity", "initial_angular_velocity", "gravity", "resolution"}
+
+
+def load_scene(path: str | Path) -> dict:
+    """Read a scene TOML into a dict of SimConfig fields; mesh paths are relative to the file."""
+    path = Path(path)
+    if not path.is_file():
+        raise UserError(f"scene file {path} not found; see assets/scenes/ for examples")
+    try:
+        data = tomllib.loads(path.read_text())
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as err:
+        raise UserError(f"scene file {path} is not valid TOML ({err}); fix the syntax") from None
+    unknown = sorted(set(data) - SCENE_KEYS)
+    if unknown:
+        raise UserError(f"scene file {path}: unknown key {unknown[0]!r}; known keys: "
+                        + ", ".join(sorted(SCENE_KEYS)))
+    defaults = SimConfig()
+    for key, value in data.items():
+        _check_type(path, key, value, getattr(defaults, key))
+    if "mesh" in data:
+        data["mesh"] = str((path.parent / data["mesh"]).resolve())
+    for key in _VECTOR_KEYS & set(data):
+        data[key] = tuple(data[key])
+    return data
+
+
+def _check_type(path, key, value, default):
+    if key in _VECTOR_KEYS:
+        ok = isinstance(value, list) and all(_is_number(v) for v in value)
+        want = "a list of numbers, e.g. [0.0, 1.0, 0.0]"
+    elif key == "frames":
+        ok, want = isinstance(value, int) and not isinstance(value, bool), "a whole number"
+    elif isinstance(default, bool):
+        ok, want = isinstance(value, bool), "true or false"
+    elif isinstance(default, int):
+        ok, want = isinstance(value, int) and not isinstance(value, bool), "a whole number"
+    elif isinstance(default, float):
+        ok, want = _is_number(value), "a number"
+    else:
+        ok, want = isinstance(value, str), "a string in quotes"
+    if not ok:
+        raise UserError(f"scene file {path}: {key} = {value!r} has the wrong type; use {want}")
+
+
+def _is_number(value) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
+def _finite(name, value):
+    if not _is_number(value) or not math.isfinite(value):
+        raise UserError(f"{name} = {value}: use a finite number")
+
+
+def _positive(name, value):
+    _finite(name, value)
+    if value <= 0:
+        raise UserError(f"{name} = {value}: use a positive number")
+
+
+def _non_negative(name, value):
+    _finite(name, value)
+    if value < 0:
+        raise UserError(f"{name} = {value}: use zero or a positive number")
+
+
+def _vec3(name, value) -> tuple:
+    value = tuple(value)
+    if len(value) != 3 or not all(_is_number(v) and math.isfinite(v) for v in value):
+        raise UserError(f"{name} = {list(value)}: use three finite numbers X Y Z")
+    return tuple(float(v) for v in value)

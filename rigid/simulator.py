@@ -1,0 +1,75 @@
+"""The facade a script, a window or a test drives: build, reset, step, read.
+
+    sim = Simulator(config, units)      # after ti.init (see rigid.runtime.init_taichi)
+    sim.step_frame()                    # 1/60 s: config.substeps substeps, one launch
+    snap = sim.snapshot()               # host copy of the body state (float64 numpy)
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .integrate import Integrator
+from .mesh import load_mesh, make_particles
+from .model import Model
+from .state import Params, State
+from .units import check_units
+
+
+class Simulator:
+    def __init__(self, config, units, vertices=None, faces=None):
+        """Build from config (mesh path, scale, ...) or from given surface vertices/faces."""
+        check_units(units)
+        self.config = config
+        if vertices is None:
+            vertices, faces = load_mesh(config.mesh, config.scale)
+        faces = np.zeros((0, 3), np.int32) if faces is None else faces
+        particles = make_particles(vertices, faces, config.particles, config.grid)
+        self.model = Model(particles, vertices, faces, config.particle_mass, units)
+        self.state = State(self.model.num_bodies, self.model.num_particles, self.model.num_surface)
+        self.params = Params(config)
+        self.integrator = Integrator(self.model, self.state, self.params, units, config.integrator)
+        self.reset()
+
+    @property
+    def substeps(self) -> int:
+        """Substeps per frame for the current Δt (the GUI may change Δt)."""
+        return max(1, int((1.0 / 60.0) // float(self.params.dt[None])))
+
+    def reset(self):
+        """Back to the initial state of the config; the model is kept (no mesh reload)."""
+        c = self.config
+        self.time = 0.0
+        self.frame = 0
+        self.integrator.init_state(c.position, c.initial_velocity, c.initial_angular_velocity)
+
+    # Changing these needs no new model and no recompile: they live in 0-d fields.
+    RUNTIME_KEYS = frozenset(Params.NAMES) | {"gravity", "walls", "position", "initial_velocity",
+                                               "initial_angular_velocity", "frames", "seed"}
+
+    def reconfigure(self, **changes):
+        """Change runtime parameters and initial conditions, then reset (no recompile)."""
+        fixed = sorted(set(changes) - self.RUNTIME_KEYS)
+        if fixed:
+            raise ValueError(f"{fixed} need a new Simulator (they change the model or the kernels)")
+        self.config = self.config.replace(**changes).validate()
+        self.params.load(self.config)
+        self.reset()
+        return self
+
+    def step_frame(self, substeps: int | None = None):
+        n = self.substeps if substeps is None else substeps
+        self.integrator.advance(n)
+        self.time += n * float(self.params.dt[None])
+        self.frame += 1
+
+    def snapshot(self) -> dict:
+        """Body 0's state and energies as float64 numpy: one row of the NPZ export."""
+        s, m = self.state, self.model
+        x, v, P, L, omega = (f.to_numpy()[0].astype(np.float64)
+                             for f in (s.x, s.v, s.P, s.L, s.omega))
+        q = s.q.to_numpy()[0].astype(np.float64)
+        g = np.asarray(self.params.gravity[None].to_numpy(), dtype=np.float64)
+        kinetic = 0.5 * P.dot(v) + 0.5 * L.dot(omega)
+        potential = -m.mass * g.dot(x) + float(self.integrator.contact_energy())
+        return dict(t=self.time, x=x, q=q, v=v, omega=omega, P=P, L=L,
+                    kinetic_energy=kinetic, potential_energy=potential)
