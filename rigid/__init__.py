@@ -2,4 +2,15 @@
 
 The engine never imports the assignment file: it receives the 7 TODO units as
 a parameter (see ``rigid.units``). Start Taichi with ``rigid.runtime.init_taichi``.
+
+Importing ``rigid`` first sets Taichi's environment, so import it before taichi.
 """
+import os
+from pathlib import Path
+
+# Taichi asks the network for a newer version at start-up; offline that costs seconds.
+os.environ.setdefault("TI_SKIP_VERSION_CHECK", "ON")
+# No "[Taichi] version ..." banner on stdout at import.
+os.environ.setdefault("ENABLE_TAICHI_HEADER_PRINT", "0")
+# Compiled kernels are cached on disk, so a second run starts faster.
+os.environ.setdefault("TI_OFFLINE_CACHE_FILE_PATH", str(Path.home() / ".cache" / "rigid-body-taichi"))

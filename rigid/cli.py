@@ -23,8 +23,15 @@ EPILOG = """examples:
 """
 
 
+class _OneLineParser(argparse.ArgumentParser):
+    """argparse, but a bad flag gives one line (not the whole usage) and exit code 2."""
+
+    def error(self, message):
+        self.exit(2, f"error: {message}; see {self.prog} --help\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(
+    p = _OneLineParser(
         prog="rigid_body_dynamic.py", epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter,
         description="Rigid body simulator (HKU Data-driven Computer Animation, Assignment 3): "
                     "a mesh's particles tumbling in a box, in Taichi.")
@@ -95,9 +102,9 @@ def _run(args, units) -> int:
         check_output_path(args.record, (".mp4", ".gif"))
     if args.screenshot:
         check_output_path(args.screenshot, (".png",))
-    if not Path(config.mesh).is_file():  # before the slow Taichi start-up
-        from .mesh import load_mesh
-        load_mesh(config.mesh)
+    from .mesh import body_geometry
+
+    geometry = body_geometry(config)  # every mesh error before the slow Taichi start-up
     if units is None:
         from .units import load_units
         units = load_units(Path(__file__).resolve().parent.parent / "rigid_body_dynamic.py")
@@ -106,7 +113,7 @@ def _run(args, units) -> int:
     from .simulator import Simulator
 
     backend = init_taichi(config.arch, config.fp64)
-    sim = Simulator(config, units)
+    sim = Simulator(config, units, geometry)
     if args.record:
         from .video import record
         result = record(sim, args.record, config.frames or HEADLESS_FRAMES, config.resolution,

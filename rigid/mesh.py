@@ -7,6 +7,7 @@ vertex is a particle of the body (the handout's sphere.obj gives 42, not 240).
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -54,3 +55,32 @@ def make_particles(vertices: np.ndarray, faces: np.ndarray, mode: str = "vertex"
     from .sampling import sample_volume
 
     return sample_volume(vertices, faces, grid)
+
+
+@dataclass
+class BodyGeometry:
+    """A body before Taichi starts: particles (N, 3) and the drawn mesh (V, 3), (F, 3), world frame."""
+
+    particles: np.ndarray
+    vertices: np.ndarray
+    faces: np.ndarray
+
+
+def body_geometry(config) -> BodyGeometry:
+    """Load the config's mesh and make its particles; every input error is raised here, before Taichi."""
+    vertices, faces = load_mesh(config.mesh, config.scale)
+    particles = make_particles(vertices, faces, config.particles, config.grid)
+    check_not_degenerate(particles)
+    return BodyGeometry(np.asarray(particles, np.float64), vertices, faces)
+
+
+def check_not_degenerate(particles: np.ndarray) -> None:
+    """A body needs particles spanning a plane at least, or its I0 is singular."""
+    if len(particles) == 0:
+        raise UserError("the body has no particles; use a mesh with vertices")
+    centred = particles - particles.mean(axis=0)
+    s = np.linalg.svd(centred, compute_uv=False) if len(particles) > 1 else np.zeros(1)
+    if len(s) < 2 or s[0] == 0 or s[1] <= 1e-9 * s[0]:
+        shape = "one point" if s[0] == 0 else "one line"
+        raise UserError(f"all {len(particles)} particles lie on {shape}, so the inertia tensor is "
+                        f"singular; use a mesh that spans a plane or a volume")

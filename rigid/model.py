@@ -19,14 +19,12 @@ import sys
 import numpy as np
 import taichi as ti
 
-from .errors import UserError
 
 
 class Model:
     def __init__(self, particles: np.ndarray, surface: np.ndarray, faces: np.ndarray,
                  particle_mass: float, units):
         particles = np.asarray(particles, dtype=np.float64)
-        check_not_degenerate(particles)
         n, v = len(particles), len(surface)
         self.num_bodies, self.num_particles, self.num_surface = 1, n, v
         # The centre of mass in float64 on the host: x = Σ m r / M (equal masses).
@@ -86,15 +84,3 @@ class Model:
 def _load(field, array: np.ndarray) -> None:
     """Copy a float64 host array into a field of the run's precision (f32 or f64)."""
     field.from_numpy(np.ascontiguousarray(array, dtype=np.float64 if field.dtype == ti.f64 else np.float32))
-
-
-def check_not_degenerate(particles: np.ndarray) -> None:
-    """A body needs particles spanning a plane at least, or its I0 is singular."""
-    if len(particles) == 0:
-        raise UserError("the body has no particles; use a mesh with vertices")
-    centred = particles - particles.mean(axis=0)
-    s = np.linalg.svd(centred, compute_uv=False) if len(particles) > 1 else np.zeros(1)
-    if len(s) < 2 or s[0] == 0 or s[1] <= 1e-9 * s[0]:
-        shape = "one point" if s[0] == 0 else "one line"
-        raise UserError(f"all {len(particles)} particles lie on {shape}, so the inertia tensor is "
-                        f"singular; use a mesh with volume or --particles volume")

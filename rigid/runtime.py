@@ -5,17 +5,10 @@ once; tests needing another arch or precision run in a subprocess.
 """
 from __future__ import annotations
 
-import os
+import contextlib
 import sys
-from pathlib import Path
 
-# Taichi asks the network for a newer version at start-up; offline that costs seconds.
-os.environ.setdefault("TI_SKIP_VERSION_CHECK", "ON")
-# Compiled kernels are cached on disk, so a second run starts faster.
-os.environ.setdefault("TI_OFFLINE_CACHE_FILE_PATH",
-                      str(Path.home() / ".cache" / "rigid-body-taichi"))
-
-import taichi as ti  # noqa: E402
+import taichi as ti  # rigid/__init__.py has set Taichi's environment before this import
 
 _initialised: dict | None = None
 
@@ -36,7 +29,7 @@ def init_taichi(arch: str = "cpu", fp64: bool = False, debug: bool = False) -> s
     if arch == "gpu":
         for candidate, name in ((ti.cuda, "cuda"), (ti.vulkan, "vulkan")):
             try:
-                ti.init(arch=candidate, **common)
+                _quiet_init(arch=candidate, **common)
             except Exception:
                 continue
             if ti.lang.impl.current_cfg().arch == candidate:
@@ -45,8 +38,14 @@ def init_taichi(arch: str = "cpu", fp64: bool = False, debug: bool = False) -> s
         else:
             print("note: --arch gpu: no CUDA or Vulkan GPU backend found; running on the CPU",
                   file=sys.stderr)
-            ti.init(arch=ti.cpu, **common)
+            _quiet_init(arch=ti.cpu, **common)
     else:
-        ti.init(arch=ti.cpu, **common)
+        _quiet_init(arch=ti.cpu, **common)
     _initialised = dict(wanted=wanted, backend=backend)
     return backend
+
+
+def _quiet_init(**kwargs):
+    # ti.init prints "[Taichi] Starting on arch=..." to stdout; keep stdout for results.
+    with contextlib.redirect_stdout(sys.stderr):
+        ti.init(**kwargs)

@@ -9,22 +9,19 @@ from __future__ import annotations
 import numpy as np
 
 from .integrate import Integrator
-from .mesh import load_mesh, make_particles
+from .mesh import BodyGeometry, body_geometry
 from .model import Model
 from .state import Params, State
 from .units import check_units
 
 
 class Simulator:
-    def __init__(self, config, units, vertices=None, faces=None):
-        """Build from config (mesh path, scale, ...) or from given surface vertices/faces."""
+    def __init__(self, config, units, geometry: BodyGeometry | None = None):
+        """Build from config (mesh path, scale, particles) or from a ready BodyGeometry."""
         check_units(units)
         self.config = config
-        if vertices is None:
-            vertices, faces = load_mesh(config.mesh, config.scale)
-        faces = np.zeros((0, 3), np.int32) if faces is None else faces
-        particles = make_particles(vertices, faces, config.particles, config.grid)
-        self.model = Model(particles, vertices, faces, config.particle_mass, units)
+        g = body_geometry(config) if geometry is None else geometry
+        self.model = Model(g.particles, g.vertices, g.faces, config.particle_mass, units)
         self.state = State(self.model.num_bodies, self.model.num_particles, self.model.num_surface)
         self.params = Params(config)
         self.integrator = Integrator(self.model, self.state, self.params, units, config.integrator)
