@@ -8,6 +8,7 @@ precedence, from command-line flags, then the scene file, then these defaults.
 from __future__ import annotations
 
 import dataclasses
+import difflib
 import math
 import tomllib
 from dataclasses import dataclass, field, fields
@@ -101,8 +102,9 @@ def load_scene(path: str | Path) -> dict:
         raise UserError(f"scene file {path} is not valid TOML ({err}); fix the syntax") from None
     unknown = sorted(set(data) - SCENE_KEYS)
     if unknown:
-        raise UserError(f"scene file {path}: unknown key {unknown[0]!r}; known keys: "
-                        + ", ".join(sorted(SCENE_KEYS)))
+        close = difflib.get_close_matches(unknown[0], SCENE_KEYS, n=1)
+        hint = f"did you mean {close[0]!r}?" if close else "known keys: " + ", ".join(sorted(SCENE_KEYS))
+        raise UserError(f"scene file {path}: unknown key {unknown[0]!r}; {hint}")
     defaults = SimConfig()
     for key, value in data.items():
         _check_type(path, key, value, getattr(defaults, key))

@@ -38,8 +38,8 @@ def load_mesh(path: str | Path, scale: float = 1.0) -> tuple[np.ndarray, np.ndar
                         f"{str(err).splitlines()[0] if str(err) else 'garbled'}); "
                         f"check that it is a valid {path.suffix} file") from None
     if vertices.ndim != 2 or len(vertices) == 0:
-        raise UserError(f"mesh file {path} has no vertices; use a mesh with at least 4 "
-                        f"vertices that are not all on one line")
+        raise UserError(f"mesh file {path} has no vertices (empty, or not a valid {path.suffix} file); "
+                        f"use a mesh with vertices that span a volume")
     if not np.all(np.isfinite(vertices)):
         raise UserError(f"mesh file {path} has non-finite vertex coordinates; repair the file")
     if len(faces) and (faces.min() < 0 or faces.max() >= len(vertices)):
