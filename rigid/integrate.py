@@ -142,8 +142,20 @@ class Integrator:
                 total += e
             return total
 
+        @ti.kernel
+        def apply_impulse(i: ti.i32, J: ti.types.vector(3, float)):
+            # An instantaneous impulse J (N s, world) at particle i: ΔP = J, ΔL = (R r0ᵢ) × J
+            # about x; store() refreshes v, I⁻¹ and ω through TODO 7, as init_state does.
+            ti.loop_config(serialize=True)
+            for _ in range(1):
+                b = model.particle_body[i]
+                r = s.R[b] @ model.r0[i]
+                store(b, s.x[b], s.q[b], s.P[b] + J, s.L[b] + r.cross(J))
+            write_particles_serial()
+
         self.advance_serial = advance_serial
         self.init_state = init_state
+        self.apply_impulse = apply_impulse
         self.contact_energy = contact_energy
 
     def advance(self, substeps: int):

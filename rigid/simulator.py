@@ -59,6 +59,12 @@ class Simulator:
         self.time += n * float(self.params.dt[None])
         self.frame += 1
 
+    def apply_impulse(self, particle: int, impulse):
+        """Hit particle ``particle`` with impulse J (N s, world frame): ΔP = J, ΔL = r × J."""
+        if not 0 <= particle < self.model.num_particles:
+            raise IndexError(f"particle {particle} out of range 0..{self.model.num_particles - 1}")
+        self.integrator.apply_impulse(int(particle), [float(c) for c in impulse])
+
     def snapshot(self) -> dict:
         """Body 0's state and energies as float64 numpy: one row of the NPZ export."""
         s, m = self.state, self.model
