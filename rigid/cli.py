@@ -90,6 +90,9 @@ def main(argv=None, units=None) -> int:
     except UserError as err:
         print(f"error: {err}", file=sys.stderr)
         return err.exit_code
+    except KeyboardInterrupt:  # before the frame loop started (which handles its own)
+        print("interrupted before the first frame; nothing written", file=sys.stderr)
+        return 130
 
 
 def _run(args, units) -> int:
@@ -120,6 +123,8 @@ def _run(args, units) -> int:
                         export_path=args.export, screenshot=args.screenshot)
     elif args.headless:
         from .runner import run_frames
+        print(f"simulating {config.frames} frames (Ctrl-C stops and keeps what is done)",
+              file=sys.stderr, flush=True)
         result = run_frames(sim, config.frames, export_path=args.export)
     else:
         from .window import run_window

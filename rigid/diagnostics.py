@@ -9,6 +9,7 @@ Export contract (one row per rendered frame, row 0 the initial state):
 from __future__ import annotations
 
 import math
+import zipfile
 
 import numpy as np
 
@@ -38,8 +39,17 @@ class Trajectory:
     def save(self, path) -> None:
         """Write the NPZ under a temporary name, then rename: never a half file."""
         with atomic_output(path) as tmp:
-            with open(tmp, "wb") as fh:
-                np.savez(fh, **self.arrays())
+            write_npz(tmp, self.arrays())
+
+
+def write_npz(path, arrays: dict) -> None:
+    """np.savez, but byte-identical for identical arrays: np.savez stamps each member with
+    the current time; we stamp a fixed date, so the same run gives the same file."""
+    with zipfile.ZipFile(path, "w", compression=zipfile.ZIP_STORED) as archive:
+        for key, value in arrays.items():
+            info = zipfile.ZipInfo(f"{key}.npy", date_time=(1980, 1, 1, 0, 0, 0))
+            with archive.open(info, "w", force_zip64=True) as member:
+                np.lib.format.write_array(member, np.asanyarray(value), allow_pickle=False)
 
 
 def blow_up(row: dict, initial_energy: float, energy_bound: float) -> str | None:
