@@ -6,6 +6,7 @@ stop: whatever happens, the frames simulated so far are saved.
 """
 from __future__ import annotations
 
+import itertools
 import sys
 from dataclasses import dataclass
 
@@ -26,6 +27,10 @@ def energy_bound(mass: float, gravity, kinetic0: float) -> float:
     return mass * float(np.linalg.norm(gravity)) * 1.0 + 0.5 * kinetic0 + 1e-6
 
 
+class StopRun(Exception):
+    """Raised by an ``on_frame`` callback to end the run normally (e.g. the window was closed)."""
+
+
 @dataclass
 class RunResult:
     frames: int  # frames simulated after the initial state
@@ -37,8 +42,10 @@ class RunResult:
         return {"done": 0, "interrupted": 130, "blew-up": 3}[self.status]
 
 
-def run_frames(sim, frames: int, export_path=None, on_frame=None, check_every: int = 1) -> RunResult:
-    """Simulate ``frames`` frames; ``on_frame(sim, i)`` runs after each (e.g. draw and encode)."""
+def run_frames(sim, frames: int | None, export_path=None, on_frame=None, check_every: int = 1) -> RunResult:
+    """Simulate ``frames`` frames (None: until ``on_frame`` raises StopRun); ``on_frame(sim, i)``
+    runs after each (e.g. draw and encode). If it returns True, the state was changed by hand
+    (a reset, a kick, a new gravity) and the blow-up check measures energy from there on."""
     cfg = sim.config
     trajectory = Trajectory(sim.model.mass, sim.model.inertia_body_np, cfg.dt, sim.substeps, cfg.fp64)
     row = sim.snapshot()
@@ -47,9 +54,9 @@ def run_frames(sim, frames: int, export_path=None, on_frame=None, check_every: i
     bound = energy_bound(sim.model.mass, cfg.gravity, row["kinetic_energy"])
     result = RunResult(0, "done")
     try:
-        if on_frame is not None:
-            on_frame(sim, 0)
-        for i in range(1, frames + 1):
+        if on_frame is not None and on_frame(sim, 0):
+            e0, bound = _energy_baseline(sim)
+        for i in (itertools.count(1) if frames is None else range(1, frames + 1)):
             sim.step_frame()
             if export_path is not None or i % check_every == 0 or i == frames:
                 row = sim.snapshot()
@@ -60,12 +67,22 @@ def run_frames(sim, frames: int, export_path=None, on_frame=None, check_every: i
                                        f"{stability_hint(cfg)}")
                     break
                 trajectory.append(row)
-            if on_frame is not None:
-                on_frame(sim, i)
             result.frames = i
+            if on_frame is not None and on_frame(sim, i):
+                e0, bound = _energy_baseline(sim)
+    except StopRun:
+        pass
     except KeyboardInterrupt:
         result = RunResult(result.frames, "interrupted", f"interrupted after {result.frames} frames")
     if export_path is not None:
         trajectory.save(export_path)
         print(f"wrote {export_path} ({len(trajectory.rows)} rows)", file=sys.stderr)
     return result
+
+
+def _energy_baseline(sim) -> tuple[float, float]:
+    """Initial energy and blow-up bound measured from the simulator's current state."""
+    row = sim.snapshot()
+    gravity = sim.params.gravity[None].to_numpy()
+    return (row["kinetic_energy"] + row["potential_energy"],
+            energy_bound(sim.model.mass, gravity, row["kinetic_energy"]))
