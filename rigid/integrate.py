@@ -17,16 +17,35 @@ from (x, R), and ``write_particles`` stores them once per frame.
 
 "symplectic" (semi-implicit Euler) updates P and L first, then moves x and q
 with the new v and ω; it reuses the same units. "rk4" lives in rk4.py.
+
+Two paths run a frame (``advance``), chosen by particle count:
+- serial (``advance_serial``): one launch, one thread, every substep of every
+  body; the particle sum runs block by block (wrench.py, blocks.py);
+- parallel (parallel.py), for bodies of ``PARALLEL_MIN_PARTICLES`` or more
+  (euler and symplectic): threads over blocks, partial sums added in a fixed
+  order, one compute-graph launch per frame.
 """
 import taichi as ti
 
-from .contact import box_force
+from .blocks import ParticleBlocks
 from .rotation import quaternion_to_matrix
+from .wrench import make_wrench
+
+# Below this many particles in the largest body, a frame runs on one thread: dispatching
+# the two tasks of a parallel substep costs ~15 µs on 2 CPU cores, more than a serial
+# substep of a smaller body (crossover measured by scripts/bench.py --crossover).
+PARALLEL_MIN_PARTICLES = 32768
+PARALLEL_SCHEMES = ("euler", "symplectic")
 
 
 class Integrator:
-    def __init__(self, model, state, params, units, scheme: str = "euler"):
+    def __init__(self, model, state, params, units, scheme: str = "euler", parallel=None):
+        """``parallel``: None chooses by particle count, True/False force a path (where the scheme has it)."""
         self.model, self.state, self.params, self.scheme = model, state, params, scheme
+        self.blocks = ParticleBlocks(model)
+        self.parallel = parallel
+        self.largest_body = int(model.body_count.to_numpy().max())  # particles
+        self._parallel_frame = None
         self._build(units)
 
     def _build(self, u):
@@ -34,32 +53,8 @@ class Integrator:
         num_bodies = model.num_bodies
         scheme = self.scheme
 
-        @ti.func
-        def particle_force(b, p, pv):
-            """Force on one particle of body b at world position p, velocity pv; and its elastic energy."""
-            f = u.gravity_force(model.particle_mass[b], prm.gravity[None])
-            energy = 0.0
-            if prm.walls[None]:
-                fc, energy = box_force(p, pv, prm.floor[None], prm.wall[None],
-                                       prm.collision_stiffness[None],
-                                       prm.velocity_damping_stiffness[None],
-                                       prm.friction_stiffness[None])
-                f += fc
-            return f, energy
-
-        @ti.func
-        def body_wrench(b, x, R, v, omega):
-            """Total force F (TODO 3) and torque τ about x (TODO 4) on body b, serial sum."""
-            F = ti.Vector.zero(float, 3)
-            tau = ti.Vector.zero(float, 3)
-            start = model.body_start[b]
-            for i in range(start, start + model.body_count[b]):
-                r = R @ model.r0[i]
-                p = x + r
-                f, _ = particle_force(b, p, v + omega.cross(r))
-                F += u.total_force_term(f)
-                tau += u.torque_term(p, x, R, model.r0[i], f)
-            return F, tau
+        # Forces per particle through the TODO units, summed block by block (wrench.py).
+        particle_force, _gain, _block_wrench, body_wrench = make_wrench(model, prm, self.blocks, u)
 
         @ti.func
         def store(b, x, q, P, L):
@@ -70,11 +65,12 @@ class Integrator:
             s.x[b], s.q[b], s.P[b], s.L[b] = x, q, P, L_same
             s.v[b], s.R[b], s.inertia_inv[b], s.omega[b] = P / model.body_mass[b], R, inertia_inv, omega
 
+        # Each scheme is (wrench at the start of the substep) then (update from that wrench), so that
+        # the parallel path (parallel.py) can sum the wrench over threads and reuse the update.
         @ti.func
-        def substep_euler(b, dt):
-            x, q, P, L, R, omega = s.x[b], s.q[b], s.P[b], s.L[b], s.R[b], s.omega[b]
+        def euler_update(b, dt, F, tau):
+            x, q, P, L, omega = s.x[b], s.q[b], s.P[b], s.L[b], s.omega[b]
             M = model.body_mass[b]
-            F, tau = body_wrench(b, x, R, P / M, omega)
             x_new, P_new = u.update_linear(x, P, F, M, dt)
             q_new = u.update_orientation(q, omega, dt)
             R_new = quaternion_to_matrix(q_new)
@@ -83,18 +79,24 @@ class Integrator:
             s.v[b], s.R[b], s.inertia_inv[b], s.omega[b] = P_new / M, R_new, inertia_inv, omega_new
 
         @ti.func
-        def substep_symplectic(b, dt):
-            x, q, P, L, R, omega = s.x[b], s.q[b], s.P[b], s.L[b], s.R[b], s.omega[b]
+        def symplectic_update(b, dt, F, tau):
+            x, q, P, L, R = s.x[b], s.q[b], s.P[b], s.L[b], s.R[b]
             M = model.body_mass[b]
             zero = ti.Vector.zero(float, 3)
-            F, tau = body_wrench(b, x, R, P / M, omega)
             _x, P_new = u.update_linear(x, P, F, M, dt)  # momenta first ...
             L_new, _i, omega_mid = u.update_angular(L, tau, R, model.inertia_body_inv[b], dt)
             x_new, _P = u.update_linear(x, P_new, zero, M, dt)  # ... then move with the new v, ω
             q_new = u.update_orientation(q, omega_mid, dt)
             store(b, x_new, q_new, P_new, L_new)
 
-        substep = substep_symplectic if scheme == "symplectic" else substep_euler
+        update = symplectic_update if scheme == "symplectic" else euler_update
+
+        @ti.func
+        def substep_one_step(b, dt):
+            F, tau = body_wrench(b, s.x[b], s.R[b], s.P[b] / model.body_mass[b], s.omega[b])
+            update(b, dt, F, tau)
+
+        substep = substep_one_step
         if scheme == "rk4":
             from .rk4 import make_rk4_substep
 
@@ -154,10 +156,28 @@ class Integrator:
             write_particles_serial()
 
         self.advance_serial = advance_serial
+        self._parallel_parts = (_block_wrench, _gain, update, write_particles_serial)
         self.init_state = init_state
         self.apply_impulse = apply_impulse
         self.contact_energy = contact_energy
 
+    @property
+    def uses_parallel(self) -> bool:
+        """Whether ``advance`` takes the parallel path (see the module docstring)."""
+        if self.scheme not in PARALLEL_SCHEMES:
+            return False
+        if self.parallel is not None:
+            return bool(self.parallel)
+        return self.largest_body >= PARALLEL_MIN_PARTICLES
+
     def advance(self, substeps: int):
-        """Advance every body by ``substeps`` substeps in one kernel launch."""
-        self.advance_serial(substeps)
+        """Advance every body by ``substeps`` substeps: one launch (serial) or one graph (parallel)."""
+        if self.uses_parallel:
+            if self._parallel_frame is None:
+                from .parallel import ParallelFrame
+
+                self._parallel_frame = ParallelFrame(self.model, self.state, self.params, self.blocks,
+                                                     *self._parallel_parts)
+            self._parallel_frame.advance(substeps)
+        else:
+            self.advance_serial(substeps)

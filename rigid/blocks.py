@@ -1,0 +1,106 @@
+"""Particles grouped into small, spatially compact blocks, for the force loop.
+
+The force loop visits a body's particles block by block. Each block carries a
+bounding sphere (centre c and radius ρ in the body frame); once per substep a
+block whose sphere, moved to the world by (x, R), stays inside the box with a
+margin cannot have a particle behind any wall, so its particles feel gravity
+only and skip the five plane tests (the contact force there would be exactly
+zero). The block is also the unit of work and of summation of the parallel
+path: F and τ are summed per block in a fixed order, then over blocks in block
+order, so the result does not depend on how many threads ran the blocks.
+
+Blocks are cut from the body's particles sorted along a Morton (Z-order) curve
+of their body-frame positions, so consecutive particles are close in space: a
+volume-sampled body gives 4×4×4-cell cubes. The order inside the blocks is
+this sorted order; the Model keeps the original one (particle i = vertex i).
+
+Fields (float is the run's precision), N particles, K blocks, B bodies:
+- ``r0``           [N] vec3  body-frame offsets from the centre of mass, block order
+- ``block_start``, ``block_count`` [K] i32  block k holds r0[start : start + count]
+- ``block_body``   [K] i32   the body that owns block k
+- ``block_centre`` [K] vec3  bounding-sphere centre, body frame
+- ``block_radius`` [K] float bounding-sphere radius (rounded up)
+- ``body_block_start``, ``body_block_count`` [B] i32  body b's blocks, consecutive
+"""
+from __future__ import annotations
+
+import numpy as np
+import taichi as ti
+
+SMALL_BLOCK = 64  # particles per block for bodies up to MANY_BLOCKS * SMALL_BLOCK particles
+MANY_BLOCKS = 4096  # bigger bodies get bigger blocks, so the per-substep sum over blocks stays short
+
+
+def block_size_for(num_particles: int) -> int:
+    """64 particles per block, doubled until a body has at most ~4096 blocks (1M -> 256)."""
+    size = SMALL_BLOCK
+    while num_particles > MANY_BLOCKS * size:
+        size *= 2
+    return size
+
+
+def morton_order(points: np.ndarray) -> np.ndarray:
+    """Indices sorting points (n, 3) along a Z-order curve of 10 bits per axis."""
+    lo, hi = points.min(axis=0), points.max(axis=0)
+    span = np.where(hi > lo, hi - lo, 1.0)
+    cells = np.minimum((points - lo) / span * 1024, 1023).astype(np.uint64)
+
+    def spread(v):  # put two zero bits between the bits of a 10-bit integer
+        v = (v | (v << np.uint64(16))) & np.uint64(0x030000FF)
+        v = (v | (v << np.uint64(8))) & np.uint64(0x0300F00F)
+        v = (v | (v << np.uint64(4))) & np.uint64(0x030C30C3)
+        return (v | (v << np.uint64(2))) & np.uint64(0x09249249)
+
+    code = spread(cells[:, 0]) | (spread(cells[:, 1]) << np.uint64(1)) | (spread(cells[:, 2]) << np.uint64(2))
+    return np.argsort(code, kind="stable")
+
+
+def block_layout(r0: np.ndarray, body_start, body_count, block_size: int) -> dict:
+    """Host-side layout (float64 numpy) of the blocks of every body; see the module docstring."""
+    order, starts, counts, owners, centres, radii = [], [], [], [], [], []
+    body_block_start, body_block_count = [], []
+    for b, (start, count) in enumerate(zip(body_start, body_count)):
+        body_order = start + morton_order(r0[start:start + count])
+        body_block_start.append(len(starts))
+        for k0 in range(0, count, block_size):
+            members = body_order[k0:k0 + block_size]
+            points = r0[members]
+            centre = 0.5 * (points.min(axis=0) + points.max(axis=0))
+            starts.append(start + k0)
+            counts.append(len(members))
+            owners.append(b)
+            centres.append(centre)
+            radii.append(np.sqrt(((points - centre) ** 2).sum(axis=1).max()))
+        body_block_count.append(len(starts) - body_block_start[-1])
+        order.append(body_order)
+    return dict(order=np.concatenate(order), block_start=np.array(starts), block_count=np.array(counts),
+                block_body=np.array(owners), block_centre=np.array(centres), block_radius=np.array(radii),
+                body_block_start=np.array(body_block_start), body_block_count=np.array(body_block_count))
+
+
+class ParticleBlocks:
+    """The blocks of a Model's bodies as Taichi fields (see the module docstring)."""
+
+    def __init__(self, model, block_size: int | None = None):
+        r0 = model.r0_np
+        body_start = model.body_start.to_numpy()
+        body_count = model.body_count.to_numpy()
+        self.block_size = block_size or block_size_for(int(body_count.max()))
+        layout = block_layout(r0, body_start, body_count, self.block_size)
+        self.num_blocks = k = len(layout["block_start"])
+        self.order = layout["order"]  # r0 here = model r0[order]
+        fp = np.float64 if ti.lang.impl.current_cfg().default_fp == ti.f64 else np.float32
+        self.r0 = ti.Vector.field(3, float, shape=len(r0))
+        self.block_start = ti.field(ti.i32, shape=k)
+        self.block_count = ti.field(ti.i32, shape=k)
+        self.block_body = ti.field(ti.i32, shape=k)
+        self.block_centre = ti.Vector.field(3, float, shape=k)
+        self.block_radius = ti.field(float, shape=k)
+        self.body_block_start = ti.field(ti.i32, shape=len(body_start))
+        self.body_block_count = ti.field(ti.i32, shape=len(body_start))
+        self.r0.from_numpy(r0[self.order].astype(fp))
+        for name in ("block_start", "block_count", "block_body", "body_block_start", "body_block_count"):
+            getattr(self, name).from_numpy(layout[name].astype(np.int32))
+        self.block_centre.from_numpy(layout["block_centre"].astype(fp))
+        # Round the radius up so that the float copy never under-covers its block.
+        self.block_radius.from_numpy(np.nextafter(layout["block_radius"].astype(fp), fp(np.inf)))
