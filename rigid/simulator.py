@@ -26,6 +26,7 @@ class Simulator:
         self.params = Params(config)
         self.integrator = Integrator(self.model, self.state, self.params, units, config.integrator)
         self.reset()
+        self.snapshot()  # compile the read-back kernels now, not in the middle of a run
 
     @property
     def substeps(self) -> int:

@@ -64,12 +64,13 @@ def test_interrupted_export_is_complete_and_readable(tmp_path):
     for line in proc.stderr:  # wait for the frame loop to start (after compiling)
         if line.startswith("simulating"):
             break
-    time.sleep(1.0)
+    time.sleep(2.0)
     proc.send_signal(signal.SIGINT)
     _, err = proc.communicate(timeout=60)
     assert proc.returncode == 130, err
     d = np.load(out)
-    assert len(d["t"]) > 10 and np.all(np.isfinite(d["x"]))
+    assert len(d["t"]) > 2 and np.all(np.isfinite(d["x"]))
+    assert np.all(np.diff(d["t"]) > 0)
 
 
 def test_failed_write_keeps_the_previous_file(tmp_path):
