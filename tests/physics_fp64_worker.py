@@ -46,6 +46,13 @@ def main() -> None:
     for axis in (0, 1, 2):
         run(f"spin_axis_{axis}", ex.axis_stability, axis)
     run("drop", ex.symmetric_drop)
+    # The models' mass properties, for the tests to recompute with numpy.
+    t_handle = get(**ex.T_HANDLE).model
+    sphere = get(particles="volume", grid=10).model
+    out["models"] = {name: dict(mass=m.mass, particle_mass=float(m.particle_mass.to_numpy()[0]),
+                                count=m.num_particles, inertia=m.inertia_body_np.tolist(),
+                                center_of_mass=m.center_of_mass.tolist())
+                     for name, m in (("t_handle", t_handle), ("sphere_volume_10", sphere))}
     out["seconds"] = seconds
     json.dump(out, sys.stdout, default=float)
 
