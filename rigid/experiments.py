@@ -81,8 +81,13 @@ def free_fall(get_sim, integrator: str, dt: float = 1e-3, rows: int = 20, subste
 
 def angular_momentum_drift(get_sim, integrator: str = "euler", duration: float = 10.0, dt: float = 1e-3,
                            body: dict = T_HANDLE) -> dict:
-    """Torque-free (gravity on, no walls): max |L(t) − L0| / |L0| over ``duration``."""
+    """Torque-free (gravity on, no walls): max |L(t) − L0| / |L0| over ``duration``.
+
+    Thrown off the origin and sideways, so x is never parallel to g: a torque taken about
+    the world origin (p × f instead of r × f) would change L by x × M g.
+    """
     sim = get_sim(**body, integrator=integrator, dt=dt, gravity=(0.0, -9.8, 0.0),
+                  position=(0.3, 0.2, -0.1), initial_velocity=(1.0, 2.0, 0.5),
                   initial_angular_velocity=TUMBLE_W0)
     rows = 50
     traj = record(sim, rows, int(round(duration / dt / rows)))
