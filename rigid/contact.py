@@ -30,9 +30,15 @@ def plane_force(p, v, normal, offset, k, kd, mu):
 
 
 @ti.func
+def floor_force(p, v, floor, k, kd, mu):
+    """The floor's share of box_force (the engine calls it alone where no wall is near)."""
+    return plane_force(p, v, ti.Vector([0.0, 1.0, 0.0]), floor, k, kd, mu)
+
+
+@ti.func
 def box_force(p, v, floor, wall, k, kd, mu):
     """Total contact force on a particle at p moving at v, and the springs' elastic energy."""
-    f0, e0 = plane_force(p, v, ti.Vector([0.0, 1.0, 0.0]), floor, k, kd, mu)
+    f0, e0 = floor_force(p, v, floor, k, kd, mu)
     f1, e1 = plane_force(p, v, ti.Vector([1.0, 0.0, 0.0]), -wall, k, kd, mu)
     f2, e2 = plane_force(p, v, ti.Vector([-1.0, 0.0, 0.0]), -wall, k, kd, mu)
     f3, e3 = plane_force(p, v, ti.Vector([0.0, 0.0, 1.0]), -wall, k, kd, mu)
