@@ -15,7 +15,7 @@ volume-sampled body gives 4×4×4-cell cubes. The order inside the blocks is
 this sorted order; the Model keeps the original one (particle i = vertex i).
 
 Fields (float is the run's precision), N particles, K blocks, B bodies:
-- ``r0``           [N] vec3  body-frame offsets from the centre of mass, block order
+- ``r0``           [N] vec3  body-frame offsets from the centre of mass, block order (SoA)
 - ``block_start``, ``block_count`` [K] i32  block k holds r0[start : start + count]
 - ``block_body``   [K] i32   the body that owns block k
 - ``block_centre`` [K] vec3  bounding-sphere centre, body frame
@@ -90,7 +90,8 @@ class ParticleBlocks:
         self.num_blocks = k = len(layout["block_start"])
         self.order = layout["order"]  # r0 here = model r0[order]
         fp = np.float64 if ti.lang.impl.current_cfg().default_fp == ti.f64 else np.float32
-        self.r0 = ti.Vector.field(3, float, shape=len(r0))
+        # Structure of arrays: the vectorised particle loop loads 8 x, 8 y, 8 z at once.
+        self.r0 = ti.Vector.field(3, float, shape=len(r0), layout=ti.Layout.SOA)
         self.block_start = ti.field(ti.i32, shape=k)
         self.block_count = ti.field(ti.i32, shape=k)
         self.block_body = ti.field(ti.i32, shape=k)

@@ -22,7 +22,7 @@ any thread then in block order (parallel.py): the same order either way.
 """
 import taichi as ti
 
-from .contact import box_force
+from .contact import box_force, floor_force
 
 CLEAR_MARGIN = 1e-5  # relative padding of the clear test (see the module docstring)
 
@@ -54,43 +54,66 @@ def make_wrench(model, params, blocks, units):
         return ti.sqrt(bound)
 
     @ti.func
-    def block_clear(k, x, R, gain):
-        """True when no particle of block k can be behind the floor or a wall (or walls are off)."""
-        clear = True
+    def planes_in_reach(k, x, R, gain):
+        """(floor, wall): whether a particle of block k may be behind the floor, behind a wall."""
+        floor_near, wall_near = False, False
         if prm.walls[None]:
             floor, wall = prm.floor[None], prm.wall[None]
             centre, radius = bl.block_centre[k], bl.block_radius[k]
             c = x + R @ centre
             size = ti.abs(x).max() + gain * (ti.abs(centre).sum() + radius) + ti.abs(floor) + ti.abs(wall)
             reach = gain * radius + CLEAR_MARGIN * size
-            clear = (c[1] - reach > floor and c[0] + reach < wall and c[0] - reach > -wall
-                     and c[2] + reach < wall and c[2] - reach > -wall)
-        return clear
+            # Written so that a NaN makes a plane near: comparisons with NaN are false.
+            floor_near = not c[1] - reach > floor
+            wall_near = not (c[0] + reach < wall and c[0] - reach > -wall
+                             and c[2] + reach < wall and c[2] - reach > -wall)
+        return floor_near, wall_near
 
-    @ti.func
-    def block_wrench(k, b, x, R, v, omega, gain):
-        """F and τ (about x) on body b from the particles of its block k, summed in block order."""
-        F = ti.Vector.zero(float, 3)
-        tau = ti.Vector.zero(float, 3)
-        start = bl.block_start[k]
-        end = start + bl.block_count[k]
-        if block_clear(k, x, R, gain):
-            # Gravity only: particle_force's contact term would be exactly zero here.
+    def particle_loop(planes: str):
+        """A ti.func summing F, τ over particles [start, end) with contact from ``planes``:
+        "none" (gravity only), "floor", or "box" (all five planes, as particle_force)."""
+
+        @ti.func
+        def loop(start, end, b, x, R, v, omega):
+            F = ti.Vector.zero(float, 3)
+            tau = ti.Vector.zero(float, 3)
+            # Loaded once, so that LLVM vectorises the loop (the values are particle_force's).
             m, g = model.particle_mass[b], prm.gravity[None]
-            for j in range(start, end):
-                r0 = bl.r0[j]
-                r = R @ r0
-                f = u.gravity_force(m, g)
-                F += u.total_force_term(f)
-                tau += u.torque_term(x + r, x, R, r0, f)
-        else:
+            floor, wall = prm.floor[None], prm.wall[None]
+            k, kd, mu = prm.collision_stiffness[None], prm.velocity_damping_stiffness[None], prm.friction_stiffness[None]
             for j in range(start, end):
                 r0 = bl.r0[j]
                 r = R @ r0
                 p = x + r
-                f, _ = particle_force(b, p, v + omega.cross(r))
+                f = u.gravity_force(m, g)
+                if ti.static(planes == "floor"):
+                    fc, _e = floor_force(p, v + omega.cross(r), floor, k, kd, mu)
+                    f += fc
+                elif ti.static(planes == "box"):
+                    fc, _e = box_force(p, v + omega.cross(r), floor, wall, k, kd, mu)
+                    f += fc
                 F += u.total_force_term(f)
                 tau += u.torque_term(p, x, R, r0, f)
+            return F, tau
+
+        return loop
+
+    free_loop, floor_loop, box_loop = particle_loop("none"), particle_loop("floor"), particle_loop("box")
+
+    @ti.func
+    def block_wrench(k, b, x, R, v, omega, gain):
+        """F and τ (about x) on body b from the particles of its block k, summed in block order."""
+        start = bl.block_start[k]
+        end = start + bl.block_count[k]
+        floor_near, wall_near = planes_in_reach(k, x, R, gain)
+        F = ti.Vector.zero(float, 3)
+        tau = ti.Vector.zero(float, 3)
+        if wall_near:
+            F, tau = box_loop(start, end, b, x, R, v, omega)
+        elif floor_near:  # the four walls' forces would be exactly zero
+            F, tau = floor_loop(start, end, b, x, R, v, omega)
+        else:  # all five would be
+            F, tau = free_loop(start, end, b, x, R, v, omega)
         return F, tau
 
     @ti.func
