@@ -75,7 +75,9 @@ def free_fall(get_sim, integrator: str, dt: float = 1e-3, rows: int = 20, subste
         semi_implicit_parabola_error=float(np.abs(traj["x"] - ref.semi_implicit_free_fall(x0, v0, g, dt, n)).max() / scale_x),
         continuous_parabola_error=float(np.linalg.norm(traj["x"] - x_continuous, axis=1).max()),
         continuous_bound=float(0.5 * np.linalg.norm(g) * dt * t[-1]),  # |g| Δt t / 2: the Euler parabolas' offset
-        energy_drift=_relative_drift(traj),
+        energy_drift=_relative_drift(traj), mass=float(mass),
+        energy_change=float(traj["kinetic_energy"][-1] + traj["potential_energy"][-1]
+                            - traj["kinetic_energy"][0] - traj["potential_energy"][0]),
     )
 
 

@@ -18,7 +18,7 @@ from rigid.runtime import init_taichi  # noqa: E402
 from rigid.units import load_units  # noqa: E402
 
 # The flip, where explicit Euler's energy drift moves the orbit: Δt = 1e-4 keeps Euler's period
-# error near 1 % (at the default 1e-3 it is 14 %: see scripts/validate.py); RK4 at 1/240 s.
+# error near 1 % (at the default 1e-3 it is 6 %: see scripts/validate.py); RK4 at 1/240 s.
 FLIP_W0 = (0.0, 6.0, 1.5)
 EULER_DTS = (1 / 250, 1 / 500, 1 / 1000)
 RK4_DTS = (1 / 60, 1 / 120, 1 / 240)

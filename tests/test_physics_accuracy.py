@@ -37,7 +37,7 @@ def test_intermediate_axis_flips_with_the_reference_period(fp64, scheme):
     """Spun mostly about y (ω0 = (0, 6, 1.5) rad/s): ω_y changes sign; the period within 2 %.
 
     Explicit Euler runs at Δt = 1e-4 here: its energy drift moves the orbit near the
-    separatrix, so at the default 1e-3 the period is 14 % short (scripts/validate.py).
+    separatrix, so at the default 1e-3 the period is 6 % long (scripts/validate.py).
     """
     r = fp64[f"flip_{scheme}"]
     assert len(r["crossings"]) >= 3
