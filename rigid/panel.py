@@ -1,0 +1,75 @@
+"""The window's control panel (GGUI's imgui): readouts, sliders, buttons.
+
+Sliders write the simulator's runtime parameters (0-d fields ``sim.params.*``),
+which the frame kernel reads at every launch: a change takes effect on the next
+frame, without a recompile or a restart. A reset keeps the slider values.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+PANEL_TITLE = "Rigid body"  # imgui's layout file names it; rigid/render.py removes that file
+
+KICK_SPEED = 2.5  # m/s: the random kick changes the body's speed by about this much
+
+HELP = "space pause  n step  r reset  k kick  esc quit\nright-drag orbit  middle-drag/arrows zoom"
+
+
+class ControlPanel:
+    def __init__(self, sim, seed: int = 0):
+        self.sim = sim
+        self.rng = np.random.default_rng(seed)
+        self.paused = False
+        self.wireframe = False
+        self.message = ""  # e.g. the last blow-up, shown in red
+
+    def kick(self) -> None:
+        """An impulse of random direction (biased upwards) at a random particle: it moves and spins."""
+        sim = self.sim
+        particle = int(self.rng.integers(sim.model.num_particles))
+        direction = self.rng.normal(size=3) + np.array([0.0, 1.5, 0.0])
+        direction /= np.linalg.norm(direction)
+        sim.apply_impulse(particle, sim.model.mass * KICK_SPEED * direction)
+
+    def draw(self, gui, fps: float) -> dict:
+        """Declare the panel for this frame; return the buttons pressed, e.g. {"reset": True}."""
+        sim, prm = self.sim, self.sim.params
+        snap = sim.snapshot()
+        kinetic, potential = snap["kinetic_energy"], snap["potential_energy"]
+        pressed = {}
+        with gui.sub_window(PANEL_TITLE, 0.725, 0.02, 0.27, 0.52) as w:
+            w.text(f"t = {sim.time:.3f} s   frame {sim.frame}   {fps:.0f} fps")
+            w.text(f"kinetic {kinetic:.4g} J   potential {potential:.4g} J")
+            w.text(f"total E {kinetic + potential:.4g} J")
+            w.text(f"|P| {np.linalg.norm(snap['P']):.4g} kg m/s   |L| {np.linalg.norm(snap['L']):.4g} kg m²/s")
+            dt_ms = w.slider_float("dt [ms]", float(prm.dt[None]) * 1e3, 0.05, 4.0)
+            stiffness = w.slider_float("stiffness k", float(prm.collision_stiffness[None]), 0.0, 1e5)
+            damping = w.slider_float("damping", float(prm.velocity_damping_stiffness[None]), 0.0, 5e3)
+            friction = w.slider_float("friction mu", float(prm.friction_stiffness[None]), 0.0, 1.0)
+            gravity = prm.gravity[None].to_numpy()
+            gravity_y = w.slider_float("gravity y", float(gravity[1]), -30.0, 0.0)
+            self.wireframe = w.checkbox("wireframe", self.wireframe)
+            self.paused = w.checkbox("paused (space)", self.paused)
+            pressed["reset"] = w.button("reset (r)")
+            pressed["kick"] = w.button("random kick (k)")
+            pressed["step"] = w.button("step one frame (n)")
+            w.text(HELP)
+            if self.message:
+                w.text(self.message, color=(1.0, 0.35, 0.3))
+        changed = self._write(prm, dt=dt_ms * 1e-3, collision_stiffness=stiffness,
+                              velocity_damping_stiffness=damping, friction_stiffness=friction)
+        if gravity_y != float(gravity[1]):
+            prm.gravity[None] = (float(gravity[0]), gravity_y, float(gravity[2]))
+            changed = True
+        pressed["params_changed"] = changed
+        return pressed
+
+    @staticmethod
+    def _write(prm, **values) -> bool:
+        changed = False
+        for name, value in values.items():
+            field = getattr(prm, name)
+            if value != float(field[None]):
+                field[None] = max(value, 1e-5) if name == "dt" else value
+                changed = True
+        return changed

@@ -1,0 +1,117 @@
+"""The GGUI scene: the body's mesh, a checkered floor, the wire box, lights and a camera.
+
+The engine never imports ``ti.ui``; this module reads the simulator's fields
+(``sim.state.surface_x`` [V] vec3 world, ``sim.model.indices`` [3F] i32) and
+owns the few fields of its own (floor tiles, box edges), as Taichi's
+``mass_spring_3d_ggui.py`` does. One ``SceneRenderer`` per process: GGUI
+keeps one window.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import taichi as ti
+
+from .errors import UserError
+from .imaging import buffer_to_rgba8
+from .orbit import OrbitCamera
+from .panel import PANEL_TITLE
+from .vulkan import INSTALL_HINT, require_vulkan
+
+BACKGROUND = (1.0, 1.0, 1.0)
+BODY_COLOR = (0.93, 0.47, 0.18)
+BOX_COLOR = (0.25, 0.3, 0.4)
+TILE_COLORS = ((0.86, 0.87, 0.9), (0.74, 0.76, 0.8))
+FLOOR_TILES = 8  # per side
+
+
+class SceneRenderer:
+    def __init__(self, sim, resolution=(1280, 720), offscreen=False, title="Rigid body",
+                 fps_limit=1000):
+        require_vulkan("the window" if not offscreen else "recording (--record)")
+        self._imgui_ini = Path("imgui.ini").resolve()  # see close()
+        try:
+            self.window = ti.ui.Window(title, tuple(int(r) for r in resolution), vsync=not offscreen,
+                                       show_window=not offscreen, fps_limit=fps_limit)
+        except RuntimeError as err:  # a Vulkan the probe could not see through
+            raise UserError(f"GGUI could not start ({err}); {INSTALL_HINT}") from None
+        self.sim = sim
+        self.canvas = self.window.get_canvas()
+        self.scene = self.window.get_scene()
+        self.orbit = OrbitCamera()
+        self.wireframe = False
+        self._build_box(float(sim.params.floor[None]), float(sim.params.wall[None]))
+
+    def _build_box(self, floor: float, wall: float) -> None:
+        """Floor tiles (two triangles each, own vertices so colours stay flat) and 12 box edges."""
+        n = FLOOR_TILES
+        edges = np.linspace(-wall, wall, n + 1)
+        vertices, colors = [], []
+        for i in range(n):
+            for k in range(n):
+                x0, x1, z0, z1 = edges[i], edges[i + 1], edges[k], edges[k + 1]
+                quad = [(x0, floor, z0), (x1, floor, z0), (x1, floor, z1),
+                        (x0, floor, z0), (x1, floor, z1), (x0, floor, z1)]
+                vertices += quad
+                colors += [TILE_COLORS[(i + k) % 2]] * 6
+        self.floor_vertices = _vec_field(np.array(vertices))
+        self.floor_colors = _vec_field(np.array(colors))
+        # Given normals: GGUI would otherwise recompute them every frame.
+        self.floor_normals = _vec_field(np.tile([0.0, 1.0, 0.0], (len(vertices), 1)))
+        top = floor + 2.0 * wall
+        corners = [(-wall, wall), (wall, wall), (wall, -wall), (-wall, -wall)]
+        lines = []
+        for j, (x, z) in enumerate(corners):
+            nx, nz = corners[(j + 1) % 4]
+            lines += [(x, floor, z), (nx, floor, nz), (x, top, z), (nx, top, nz), (x, floor, z), (x, top, z)]
+        self.box_lines = _vec_field(np.array(lines))
+
+    def draw(self) -> None:
+        """Declare the scene for this frame and render it into the canvas."""
+        sim, scene = self.sim, self.scene
+        scene.set_camera(self.orbit.apply())
+        scene.ambient_light((0.35, 0.35, 0.35))
+        scene.point_light(pos=(2.5, 4.0, 3.5), color=(0.75, 0.75, 0.75))
+        if sim.params.walls[None]:
+            scene.mesh(self.floor_vertices, normals=self.floor_normals, per_vertex_color=self.floor_colors,
+                       two_sided=True)
+            scene.lines(self.box_lines, width=2.0, color=BOX_COLOR)
+        if sim.model.num_faces:
+            scene.mesh(sim.state.surface_x, sim.model.indices, color=BODY_COLOR, two_sided=True,
+                       show_wireframe=self.wireframe)
+        else:  # a point cloud: draw the particles
+            scene.particles(sim.state.particle_x, radius=0.015, color=BODY_COLOR)
+        self.canvas.set_background_color(BACKGROUND)
+        self.canvas.scene(scene)
+
+    def read_rgba(self) -> np.ndarray:
+        """The rendered frame as (H, W, 4) uint8 RGBA, top row first."""
+        return buffer_to_rgba8(self.window.get_image_buffer_as_numpy())
+
+    def close(self) -> None:
+        """Destroy the window (GGUI allows a new one afterwards in the same process)."""
+        self.window.destroy()
+        _remove_our_imgui_ini(self._imgui_ini)
+
+
+def _remove_our_imgui_ini(path: Path) -> None:
+    """imgui saves panel layouts to ./imgui.ini; ours are placed in code, so the file is litter.
+
+    Removed only when it names no window but ours: another program's layout stays.
+    """
+    try:
+        sections = [line for line in path.read_text().splitlines() if line.startswith("[")]
+    except (OSError, UnicodeDecodeError):
+        return
+    if all(line in IMGUI_SECTIONS for line in sections):
+        path.unlink(missing_ok=True)
+
+
+IMGUI_SECTIONS = {"[Window][Debug##Default]", f"[Window][{PANEL_TITLE}]"}
+
+
+def _vec_field(array: np.ndarray):
+    field = ti.Vector.field(3, ti.f32, shape=len(array))
+    field.from_numpy(array.astype(np.float32))
+    return field

@@ -1,0 +1,111 @@
+"""``--record out.mp4|out.gif``: simulate, render offscreen, encode; no display needed.
+
+Frame i of the video is the state after i simulated frames (i = 1..N), so
+``--frames N`` gives N video frames (an MP4 at 60 fps; a GIF keeps every second
+one at 30 fps). Each frame carries a line of text: the simulated time and the
+total energy. The file is written under a temporary name and renamed when
+finalised; Ctrl-C or a blow-up finalises it with the frames so far, and a run
+that wrote no frame leaves any earlier file at that path untouched.
+"""
+from __future__ import annotations
+
+import contextlib
+import signal
+import sys
+import threading
+from pathlib import Path
+
+from tqdm import tqdm
+
+from .atomic import atomic_output
+from .encoders import BackgroundWriter, open_writer
+from .imaging import TextOverlay, save_png
+from .runner import RunResult, run_frames
+
+
+class _NothingWritten(Exception):
+    """Leave the ``atomic_output`` block without renaming: keep the earlier file."""
+
+
+def record(sim, path, frames: int, resolution, export_path=None, screenshot=None,
+           progress: bool = True) -> RunResult:
+    """Record ``frames`` frames of ``sim`` into ``path`` (.mp4 or .gif) at ``resolution`` (W, H)."""
+    from .render import SceneRenderer  # GGUI starts Vulkan: import it only when recording
+
+    path = Path(path)
+    size = (int(resolution[0]), int(resolution[1]))
+    renderer = SceneRenderer(sim, size, offscreen=True)
+    try:
+        result, writer, last = _record_frames(sim, renderer, path, frames, size, export_path, progress)
+    finally:
+        renderer.close()
+    if writer.frames == 0:
+        print(f"no frame was recorded; {path} was not written", file=sys.stderr)
+    else:
+        note = "" if result.status == "done" else f"; stopped early ({result.status}), the frames so far"
+        print(f"wrote {path} ({writer.frames} frames, {size[0]}x{size[1]}, {writer.fps} fps, "
+              f"{writer.codec_name}{note})", file=sys.stderr)
+    if screenshot and last is not None:
+        save_png(last, screenshot)
+        print(f"wrote {screenshot}", file=sys.stderr)
+    return result
+
+
+def _record_frames(sim, renderer, path: Path, frames: int, size, export_path, progress):
+    """Simulate, draw, encode into a temporary file; rename it to ``path`` if it holds a frame."""
+    overlay = TextOverlay(size[1])
+    last = None
+    try:
+        with atomic_output(path) as tmp:
+            writer = BackgroundWriter(open_writer(tmp, size, suffix=path.suffix))
+            bar = tqdm(total=frames, unit="frame", desc=f"recording {path.name}", disable=not progress,
+                       file=sys.stderr, mininterval=0.5, dynamic_ncols=True)
+            try:
+                with _ctrl_c_between_frames() as stop_requested:
+                    def on_frame(sim, i):
+                        nonlocal last
+                        if stop_requested():
+                            raise KeyboardInterrupt
+                        if i == 0:
+                            return  # the video starts after the first step: N frames for --frames N
+                        renderer.draw()
+                        frame = renderer.read_rgba()
+                        snap = sim.snapshot()
+                        energy = snap["kinetic_energy"] + snap["potential_energy"]
+                        overlay.draw(frame, f"t = {sim.time:6.3f} s    E = {energy:.4g} J")
+                        writer.write(frame)
+                        last = frame
+                        bar.update(1)
+
+                    result = run_frames(sim, frames, export_path=export_path, on_frame=on_frame)
+            finally:
+                bar.close()
+                writer.close()  # finalise whatever was encoded: a playable file
+            if writer.frames == 0:
+                raise _NothingWritten
+    except _NothingWritten:
+        pass
+    return result, writer, last
+
+
+@contextlib.contextmanager
+def _ctrl_c_between_frames():
+    """Ctrl-C sets a flag read between frames, so an encoder is never cut mid-packet.
+
+    A second Ctrl-C interrupts at once (the previous handler comes back).
+    """
+    pressed = threading.Event()
+    previous = signal.getsignal(signal.SIGINT) if threading.current_thread() is threading.main_thread() else None
+    if previous in (None, signal.SIG_IGN):  # not the main thread, or Ctrl-C ignored on purpose (nohup)
+        yield pressed.is_set
+        return
+
+    def handler(signum, frame):
+        pressed.set()
+        signal.signal(signal.SIGINT, previous)
+
+    signal.signal(signal.SIGINT, handler)
+    try:
+        yield pressed.is_set
+    finally:
+        signal.signal(signal.SIGINT, previous)

@@ -1,0 +1,135 @@
+"""The interactive window: one simulated frame (1/60 s) per drawn frame, at up to 60 fps.
+
+Keys: space pause/resume, n one frame while paused, r reset, k random kick, esc quit
+(GGUI 1.7 reports letters, space, arrows and a few named keys only, so the
+single step is ``n``, not ``.``). Mouse: right-drag orbits, middle-drag zooms.
+The frame loop is ``rigid.runner.run_frames``: pausing happens inside its
+``on_frame`` (we keep drawing without stepping). After a blow-up the window
+stays open, paused, with the message in the panel; a reset starts a new run.
+"""
+from __future__ import annotations
+
+import sys
+import time
+
+import taichi as ti
+
+from .imaging import save_png
+from .panel import ControlPanel
+from .runner import RunResult, StopRun, run_frames
+from .vulkan import require_display
+
+WINDOW_SIZE = (1280, 720)
+
+
+def run_window(sim, frames: int | None = None, export_path=None, screenshot=None) -> RunResult:
+    """Show ``sim`` until the window closes (or for ``frames`` frames); return the last run's result."""
+    require_display()
+    from .render import SceneRenderer  # GGUI starts Vulkan: after the display check
+
+    renderer = SceneRenderer(sim, WINDOW_SIZE, offscreen=False, title="Rigid body (HKU COMP3360 A3)",
+                             fps_limit=60)
+    renderer.orbit.zoom(1.15)  # a little further out than the video: the panel covers the right
+    loop = _WindowLoop(sim, renderer, screenshot=bool(screenshot), frames=frames)
+    remaining = frames
+    try:
+        while True:
+            result = run_frames(sim, remaining, export_path=export_path, on_frame=loop.on_frame)
+            if result.status != "blew-up" or loop.closed:
+                break
+            print(result.message, file=sys.stderr)
+            remaining = None if frames is None else frames - loop.steps
+            if remaining is not None and remaining <= 0:
+                break
+            if not loop.wait_for_reset(result.message):
+                break
+        if screenshot and loop.last_frame is not None:
+            save_png(loop.last_frame, screenshot)
+            print(f"wrote {screenshot}", file=sys.stderr)
+        elif screenshot:
+            print(f"no screenshot: the window closed before frame {frames}", file=sys.stderr)
+    finally:
+        renderer.close()
+    return result
+
+
+class _WindowLoop:
+    def __init__(self, sim, renderer, screenshot: bool, frames: int | None):
+        self.sim, self.renderer, self.window = sim, renderer, renderer.window
+        self.panel = ControlPanel(sim, seed=sim.config.seed)
+        self.screenshot, self.frames = screenshot, frames
+        self.last_frame = None
+        self.closed = False
+        self.steps = 0  # frames stepped over all runs (for --frames)
+        self.fps = 0.0
+        self._last_time = time.perf_counter()
+
+    def on_frame(self, sim, i) -> bool:
+        """Draw frame i; while paused keep drawing and listening. True: the state was changed by hand."""
+        if i > 0:
+            self.steps += 1
+        changed = False
+        while True:
+            actions = self._keys()
+            pressed = self._draw()
+            if actions.get("quit") or not self.window.running:
+                self.closed = True
+                raise StopRun
+            if pressed.get("reset") or actions.get("reset"):
+                sim.reset()
+                self.panel.message = ""
+                changed = True
+            if pressed.get("kick") or actions.get("kick"):
+                self.panel.kick()
+                changed = True
+            changed |= pressed.get("params_changed", False)
+            if actions.get("pause"):
+                self.panel.paused = not self.panel.paused
+            if not self.panel.paused or pressed.get("step") or actions.get("step"):
+                return changed
+
+    def wait_for_reset(self, message: str) -> bool:
+        """After a blow-up: pause, show the message, wait for a reset. False if the window closed."""
+        self.panel.message = message[:160]
+        self.panel.paused = True
+        while True:
+            actions = self._keys()
+            pressed = self._draw()
+            if actions.get("quit") or not self.window.running:
+                self.closed = True
+                return False
+            if pressed.get("reset") or actions.get("reset"):
+                self.sim.reset()
+                self.panel.message = ""
+                return True
+
+    def _keys(self) -> dict:
+        actions = {}
+        for event in self.window.get_events(ti.ui.PRESS):
+            key = event.key
+            if key == "Escape":
+                actions["quit"] = True
+            elif key == " ":
+                actions["pause"] = True
+            elif key == "r":
+                actions["reset"] = True
+            elif key == "k":
+                actions["kick"] = True
+            elif key in ("n", "."):
+                actions["step"] = True
+        return actions
+
+    def _draw(self) -> dict:
+        now = time.perf_counter()
+        dt, self._last_time = now - self._last_time, now
+        self.fps = 0.9 * self.fps + 0.1 / max(dt, 1e-6) if self.fps else 1.0 / max(dt, 1e-6)
+        self.renderer.orbit.track(self.window)
+        self.renderer.wireframe = self.panel.wireframe
+        self.renderer.draw()
+        pressed = self.panel.draw(self.window.get_gui(), self.fps)
+        # A read-back costs ~10 ms at 1280x720 in software: only for the frame a screenshot keeps
+        # (every frame when the window runs until closed: any frame may be the last).
+        if self.screenshot and (self.frames is None or self.steps >= self.frames):
+            self.last_frame = self.renderer.read_rgba()
+        self.window.show()
+        return pressed

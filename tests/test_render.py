@@ -1,0 +1,146 @@
+"""Recording (--record): MP4 and GIF from the offscreen GGUI renderer, checked by decoding them.
+
+A frame "shows the body" where pixels are the body's orange (red well above blue: the
+floor, box, text and background are grey or white); the body "moves" when the orange
+centroid travels down the picture as the sphere falls. Needs Vulkan (Mesa lavapipe
+without a GPU): skipped, with the reason, where there is none.
+"""
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import av
+import numpy as np
+import pytest
+
+from conftest import ROOT, SOLUTION
+
+pytestmark = pytest.mark.skipif(
+    __import__("rigid.vulkan", fromlist=["vulkan_problem"]).vulkan_problem() is not None,
+    reason="no Vulkan device (sudo apt-get install mesa-vulkan-drivers)")
+
+W, H = 160, 120
+
+
+def decode(path):
+    """All frames of a video as (H, W, 3) uint8 arrays, and its video stream."""
+    with av.open(str(path)) as container:
+        stream = container.streams.video[0]
+        frames = [f.to_ndarray(format="rgb24") for f in container.decode(stream)]
+        return frames, stream, container.duration
+
+
+def body_mask(rgb):
+    rgb = rgb.astype(np.int32)
+    return (rgb[..., 0] - rgb[..., 2] > 60) & (rgb[..., 0] > 120)
+
+
+def centroid_row(rgb):
+    rows, _ = np.nonzero(body_mask(rgb))
+    return rows.mean()
+
+
+@pytest.fixture
+def falling_sphere(sim_cache):
+    """The handout's sphere dropped from rest: it falls 0.7 m onto the floor in ~23 frames."""
+    return sim_cache()
+
+
+def test_mp4_has_frames_rate_size_and_shows_the_falling_body(falling_sphere, tmp_path):
+    from rigid.video import record
+
+    out = tmp_path / "fall.mp4"
+    out.write_bytes(b"an older recording")
+    result = record(falling_sphere, out, 24, (W, H), progress=False)
+    assert result.status == "done"
+    frames, stream, _ = decode(out)
+    assert len(frames) == 24
+    assert stream.average_rate == 60 and stream.codec_context.name == "h264"
+    assert stream.codec_context.pix_fmt == "yuv420p"
+    assert (stream.width, stream.height) == (W, H) and frames[0].shape == (H, W, 3)
+    assert all(body_mask(f).sum() > 30 for f in frames)  # the body is in every frame
+    assert centroid_row(frames[-1]) - centroid_row(frames[0]) > 10  # ... and falls (pixels down)
+    assert not any(p.name.startswith(".") for p in tmp_path.iterdir())  # no temporary file left
+
+
+def test_gif_keeps_every_second_frame_at_30_fps_and_moves(falling_sphere, tmp_path):
+    from rigid.video import record
+
+    out = tmp_path / "fall.gif"
+    record(falling_sphere, out, 24, (W, H), progress=False, screenshot=tmp_path / "last.png")
+    frames, stream, duration = decode(out)
+    assert len(frames) == 12 and (stream.width, stream.height) == (W, H)
+    assert abs(duration / 1e6 - 12 / 30) < 0.02  # real time: 24 frames of 1/60 s
+    assert all(body_mask(f).sum() > 30 for f in frames)
+    assert centroid_row(frames[-1]) - centroid_row(frames[0]) > 10
+    from PIL import Image
+    shot = np.asarray(Image.open(tmp_path / "last.png").convert("RGB"))
+    assert shot.shape == (H, W, 3) and body_mask(shot).sum() > 30
+
+
+def test_blow_up_keeps_the_frames_before_it(sim_cache, tmp_path):
+    from rigid.video import record
+
+    sim = sim_cache(collision_stiffness=1e7)  # explicit Euler needs dt < 6.3e-4 s for this spring
+    out = tmp_path / "boom.mp4"
+    result = record(sim, out, 120, (W, H), progress=False)
+    frames, _, _ = decode(out)
+    assert result.status == "blew-up" and 0 < len(frames) == result.frames < 120
+
+
+def test_a_failed_recording_leaves_the_earlier_file(falling_sphere, tmp_path, monkeypatch):
+    import rigid.video
+
+    out = tmp_path / "keep.mp4"
+    out.write_bytes(b"an older recording")
+    calls = []
+
+    def failing_draw(self, frame, text):
+        calls.append(text)
+        if len(calls) == 5:
+            raise RuntimeError("disk full")
+
+    monkeypatch.setattr(rigid.video.TextOverlay, "draw", failing_draw)
+    with pytest.raises(RuntimeError, match="disk full"):
+        rigid.video.record(falling_sphere, out, 24, (W, H), progress=False)
+    assert out.read_bytes() == b"an older recording"
+    assert [p.name for p in tmp_path.iterdir()] == ["keep.mp4"]
+
+
+def test_no_vulkan_is_one_line_naming_the_package(falling_sphere, tmp_path, monkeypatch):
+    import rigid.vulkan
+    from rigid.errors import UserError
+    from rigid.video import record
+
+    monkeypatch.setattr(rigid.vulkan, "vulkan_problem", lambda: "no Vulkan driver")
+    with pytest.raises(UserError) as err:
+        record(falling_sphere, tmp_path / "x.mp4", 5, (W, H), progress=False)
+    message = str(err.value)
+    assert "\n" not in message and "sudo apt-get install mesa-vulkan-drivers" in message
+    # and the real probe answers without Taichi when the loader finds no driver
+    env = dict(os.environ, VK_ICD_FILENAMES=str(tmp_path / "none.json"), VK_DRIVER_FILES=str(tmp_path / "none.json"))
+    probe = subprocess.run([sys.executable, "-c", "from rigid.vulkan import vulkan_problem; print(vulkan_problem())"],
+                           cwd=ROOT, env=env, capture_output=True, text=True, timeout=30)
+    assert probe.stdout.startswith("no Vulkan"), probe.stdout + probe.stderr
+
+
+def test_ctrl_c_finalises_a_playable_file_with_the_frames_so_far(tmp_path):
+    out = tmp_path / "long.mp4"
+    out.write_bytes(b"an older recording")
+    proc = subprocess.Popen([sys.executable, str(SOLUTION), "--record", str(out), "--frames", "100000",
+                             "--resolution", str(W), str(H)], cwd=ROOT, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    partial = tmp_path / ".long.partial.mp4"
+    deadline = time.time() + 60
+    while not partial.exists() and time.time() < deadline and proc.poll() is None:
+        time.sleep(0.05)
+    time.sleep(0.7)  # some frames
+    proc.send_signal(signal.SIGINT)
+    _, stderr = proc.communicate(timeout=60)
+    assert proc.returncode == 130, stderr
+    frames, stream, _ = decode(out)
+    assert 0 < len(frames) < 100000 and stream.average_rate == 60
+    assert f"wrote {out} ({len(frames)} frames" in stderr and "Traceback" not in stderr
+    assert not partial.exists()
