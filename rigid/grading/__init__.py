@@ -1,0 +1,12 @@
+"""TA tools: the student handout and the autograder (see scripts/make_handout.py, scripts/grade.py).
+
+- handout.py      the student starter from rigid_body_dynamic.py (TODO bodies -> hints + placeholders)
+- submissions.py  find submissions in files, folders and zips
+- batch.py        grade many in parallel, one sandboxed child process each (sandbox.py)
+- child.py        inside the child: import the submission, check each TODO, report events
+- specs.py, direct.py, diagnose.py, mistakes.py, trajectory.py, alternatives.py  the checks
+- report.py       the terminal table, JSON and CSV
+
+This package imports nothing heavy at import time: the child sets its resource
+limits before numpy and Taichi load.
+"""

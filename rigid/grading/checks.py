@@ -1,0 +1,113 @@
+"""The checks of a submission's TODOs, run inside the child process.
+
+``check_direct(spec, unit, reference, alternative)`` calls the submission's
+unit and the reference unit on the same seeded inputs (specs.sample_inputs)
+and returns {"passed", "message", "form"?}. TODO 5 also passes in the
+velocity-first order (alternatives.py); "form" records which order matched, so
+the trajectory check compares with a reference run in the same order.
+
+``check_trajectories`` then runs the engine once with every unit that passed
+its direct check taken from the submission (the others from the reference)
+and compares x, q, L with the reference run. Only if that run strays (or
+crashes) does it run each such unit alone, so the blame lands on one TODO.
+A submission graded TODO by TODO thus compiles two simulators, not eight.
+"""
+import types
+
+import numpy as np
+
+from .diagnose import close, diagnose_output, error
+from .direct import make_direct_kernel
+from .specs import TODOS, pack, sample_inputs, unpack
+from . import trajectory
+
+
+def evaluate(spec, unit, inputs: dict) -> dict:
+    """name -> (K, *shape) outputs of ``unit`` on ``inputs``."""
+    a = pack(spec, inputs)
+    out = np.zeros((len(a), spec.width("outputs")), np.float64)
+    make_direct_kernel(spec, unit)(a, out)
+    return unpack(spec, out)
+
+
+def check_direct(spec, unit, expected: dict) -> dict:
+    """expected: form -> {output -> (K, *shape)}, from expected.py (one form, two for TODO 5)."""
+    k = spec.number
+    inputs = sample_inputs(k)
+    try:
+        sub = evaluate(spec, unit, inputs)
+    except SystemExit as err:
+        return dict(passed=False, message=f"TODO {k}: {spec.unit} calls sys.exit() (code {err.code}) "
+                                          f"while Taichi compiles it; remove that call")
+    except MemoryError:
+        return dict(passed=False, message=f"TODO {k}: {spec.unit} ran out of memory while compiling")
+    except Exception as err:  # a compile error of the student's code: any Taichi or Python exception
+        return dict(passed=False, message=f"TODO {k}: {spec.unit} does not compile or run: {explain(err)}")
+    for form, ref in expected.items():
+        if all(close(sub[name], ref[name]) for name, *_ in spec.outputs):
+            worst = max(error(sub[name], ref[name]) for name, *_ in spec.outputs)
+            note = f", {form} order" if len(expected) > 1 else ""
+            return dict(passed=True, form=form,
+                        message=f"TODO {k}: right on {len(sub[spec.outputs[0][0]])} random calls "
+                                f"(to {worst:.0e}{note})")
+    if is_placeholder(spec, sub, inputs):
+        return dict(passed=False, message=f"TODO {k}: not done — {spec.unit} still returns the handout's "
+                                          f"placeholder (zero or unchanged values)")
+    ref = min(expected.values(), key=lambda e: sum(error(sub[n], e[n]) for n, *_ in spec.outputs))
+    problems = [diagnose_output(spec, name, sub[name], ref[name], inputs, sub)
+                for name, *_ in spec.outputs if not close(sub[name], ref[name])]
+    return dict(passed=False, message=f"TODO {k}: " + "; ".join(problems))
+
+
+def is_placeholder(spec, sub: dict, inputs: dict) -> bool:
+    """Every output zero, or equal to the input it updates: what the handout's placeholders return."""
+    updates = dict(spec.updates)
+    return all(np.all(sub[name] == 0) or (name in updates and np.array_equal(sub[name], inputs[updates[name]]))
+               for name, *_ in spec.outputs)
+
+
+def mix(reference, module, todos, velocity_first=False):
+    """A units object: the reference's units, those of ``todos`` from ``module``."""
+    units = {spec.unit: getattr(module if k in todos else reference, spec.unit) for k, spec in TODOS.items()}
+    if velocity_first and 5 not in todos:
+        from .alternatives import update_linear_velocity_first
+
+        units["update_linear"] = update_linear_velocity_first
+    return types.SimpleNamespace(**units)
+
+
+def check_trajectories(events, module, reference, results: dict, expected, per_todo: bool = False) -> None:
+    """Emit one "trajectory" event per run (``expected``: an expected.Expected)."""
+    passed = [k for k, r in results.items() if r["passed"]]
+    if not passed:
+        return
+    velocity_first = results.get(5, {}).get("form") == "velocity-first"
+    expected = expected.trajectory("velocity-first" if velocity_first else "position-first")
+    groups = [[k] for k in passed] if per_todo else [passed]
+    while groups:
+        todos = groups.pop(0)
+        events.emit(phase="trajectory", todos=todos)
+        try:
+            errors = trajectory.compare(trajectory.run(mix(reference, module, todos, velocity_first)), expected)
+            ok = trajectory.passed(errors)
+            text = trajectory.summary(errors) if ok else trajectory.describe(errors)
+        except Exception as err:
+            ok, text = False, f"the simulation with it fails: {explain(err)}"
+        if not ok and len(todos) > 1:
+            groups = [[k] for k in todos] + groups  # find which unit strays, one at a time
+            continue
+        message = text if ok else f"right on single calls, but a simulation with it strays from the reference: {text}"
+        events.emit(event="trajectory", todos=todos, passed=ok, message=message)
+
+
+def explain(err: BaseException) -> str:
+    """One line from a (Taichi) exception: the submission's line, if named, and the last line."""
+    lines = [line.strip() for line in str(err).splitlines() if line.strip()]
+    where = [line for line in lines if line.startswith("File ") and "rigid_body_dynamic" in line]
+    last = lines[-1] if lines else type(err).__name__
+    place = ""
+    if where:
+        parts = where[-1].split(", ")
+        place = next((p for p in parts if p.startswith("line ")), "")
+    text = f"{type(err).__name__}: {last}" + (f" ({place})" if place else "")
+    return text[:300]

@@ -1,0 +1,107 @@
+"""``python scripts/grade.py PATH... [--json OUT] [--csv OUT] [--jobs N] [--points ...]``.
+
+Prints the points split, one progress line per submission as it finishes
+(stderr), then the table and the feedback (stdout). Exit 0 when every
+submission was graded (whatever its score), 2 on bad arguments.
+"""
+import argparse
+import os
+import sys
+from pathlib import Path
+
+from ..atomic import check_output_path
+from ..config import REPO_ROOT
+from ..errors import UserError
+from .specs import DEFAULT_POINTS, TODOS
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(
+        prog="grade.py", description="Grade Assignment 3 submissions TODO by TODO, each in its own sandboxed "
+                                     "process.",
+        epilog="examples:\n  python scripts/grade.py submissions/ --csv grades.csv --json grades.json\n"
+               "  python scripts/grade.py 3035_alice_assignment3.zip bob.py --points 20,10,10,10,10,15,15",
+        formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("paths", nargs="+", metavar="PATH", help=".py files, .zip files, or folders of them")
+    p.add_argument("--json", metavar="OUT.json", help="write every result, with messages")
+    p.add_argument("--csv", metavar="OUT.csv", help="write one row per submission for a gradebook")
+    p.add_argument("--jobs", type=int, default=os.cpu_count() or 1, metavar="N",
+                   help="submissions graded at once (default: the number of CPU cores)")
+    p.add_argument("--points", metavar="P1,...,P7",
+                   help="points of TODOs 1..7 (default " + ",".join(f"{v:g}" for v in DEFAULT_POINTS.values()) + ")")
+    p.add_argument("--timeout", type=float, default=60.0, metavar="S",
+                   help="wall-time limit of each stage of grading one submission: its import, each TODO's "
+                        "check, each simulation (default 60)")
+    p.add_argument("--memory-mb", type=int, default=4096, metavar="MB",
+                   help="address-space limit of each grading process (default 4096; Taichi needs ~2000)")
+    p.add_argument("--reference", default=str(REPO_ROOT / "rigid_body_dynamic.py"), metavar="FILE",
+                   help="the solution to grade against (default: the repository's rigid_body_dynamic.py)")
+    p.add_argument("--cache-dir", metavar="DIR", help="where the reference's answers and compiled kernels "
+                                                      "are kept (default ~/.cache/rigid-body-taichi/grader)")
+    return p
+
+
+def parse_points(text) -> dict:
+    if text is None:
+        return dict(DEFAULT_POINTS)
+    parts = text.replace(" ", "").split(",")
+    try:
+        values = [float(v) for v in parts]
+    except ValueError:
+        values = []
+    if len(values) != len(TODOS) or any(v < 0 or v != v for v in values):
+        raise UserError(f"--points {text}: give {len(TODOS)} non-negative numbers separated by commas, "
+                        f"e.g. --points 15,10,10,15,10,15,15")
+    return dict(zip(TODOS, values))
+
+
+def main(argv=None) -> int:
+    args = build_parser().parse_args(argv)
+    try:
+        return _run(args)
+    except UserError as err:
+        print(f"error: {err}", file=sys.stderr)
+        return err.exit_code
+
+
+def _run(args) -> int:
+    from . import report
+    from .batch import default_cache_root, grade_batch, prepare
+    from .sandbox import Limits
+    from .submissions import discover
+
+    points = parse_points(args.points)
+    if args.jobs < 1:
+        raise UserError(f"--jobs {args.jobs}: use 1 or more")
+    if not args.timeout > 0 or args.memory_mb < 256:
+        raise UserError("--timeout must be positive and --memory-mb at least 256")
+    for out, suffix in ((args.json, ".json"), (args.csv, ".csv")):
+        if out:
+            check_output_path(out, (suffix,))
+    reference = Path(args.reference).resolve()
+    if not reference.is_file():
+        raise UserError(f"reference {reference} not found; give the solution file with --reference")
+    submissions, notes = discover(args.paths)
+    for note in notes:
+        print(note, file=sys.stderr)
+    limits = Limits(stage_seconds=args.timeout, memory_mb=args.memory_mb)
+    cache_root = Path(args.cache_dir) if args.cache_dir else default_cache_root()
+    settings = prepare(reference, limits, cache_root, log=lambda m: print(m, file=sys.stderr))
+    settings.points = points
+    print(report.points_line(points))
+    n = len(submissions)
+
+    def progress(i, result):
+        print(f"[{i + 1}/{n}] {result['submission']}: {result['total']:g}/{result['max_total']:g} "
+              f"({result['seconds']:.1f} s)", file=sys.stderr, flush=True)
+
+    results = grade_batch(submissions, settings, args.jobs, progress)
+    print(report.table(results))
+    text = report.details(results)
+    if text:
+        print("\n" + text)
+    if args.json:
+        report.write_json(results, args.json)
+    if args.csv:
+        report.write_csv(results, args.csv)
+    return 0

@@ -1,0 +1,153 @@
+"""Run one child process under limits and watch it: the parent side of the isolation.
+
+``run_child(args, box, events, limits)`` starts ``python -m rigid.grading.child``
+in its own session (process group) with cwd and HOME in ``box``, a small clean
+environment, memory/file-size limits (set by the child on itself before
+anything else loads) and a wall-time limit *per stage*: the child writes a
+line when it starts a stage (import, each TODO's check, each trajectory run),
+and the parent kills the whole process group when one stage outlasts
+``limits.stage_seconds``. stdout and stderr (shared with the submission) are
+drained by a thread into a bounded head + tail, so a print flood costs only
+CPU time. Returns what happened; interpreting it is grade.py's job.
+
+What this does not prevent: the child runs as the grader's user, so code that
+deliberately uses absolute paths can read or write that user's files, open
+network connections, or fake its own events. Run batches of untrusted code in
+a container or as an unprivileged user if that matters (see the README).
+"""
+import json
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..config import REPO_ROOT
+
+OUTPUT_KEEP = 2000  # characters kept from the start and from the end of the child's output
+
+
+@dataclass
+class Limits:
+    stage_seconds: float = 60.0
+    memory_mb: int = 4096
+    file_mb: int = 64
+
+
+@dataclass
+class ChildRun:
+    returncode: int | None
+    timed_out: bool
+    events: list = field(default_factory=list)
+    output: str = ""
+    seconds: float = 0.0
+
+    @property
+    def done(self) -> bool:
+        """Every result was reported ("finish" only flushes Taichi's kernel cache)."""
+        return any(e.get("event") == "done" for e in self.events) or self.last_stage.get("phase") == "finish"
+
+    @property
+    def last_stage(self) -> dict:
+        stages = [e for e in self.events if "phase" in e]
+        return stages[-1] if stages else {"phase": "import"}
+
+
+class _Drain(threading.Thread):
+    """Read a pipe to its end, keeping the first and last OUTPUT_KEEP bytes."""
+
+    def __init__(self, pipe):
+        super().__init__(daemon=True)
+        self.pipe, self.head, self.tail, self.total = pipe, b"", b"", 0
+
+    def run(self):
+        for chunk in iter(lambda: self.pipe.read1(65536), b""):
+            self.total += len(chunk)
+            if len(self.head) < OUTPUT_KEEP:
+                self.head += chunk[:OUTPUT_KEEP - len(self.head)]
+            self.tail = (self.tail + chunk)[-OUTPUT_KEEP:]
+
+    def text(self) -> str:
+        if self.total <= OUTPUT_KEEP:
+            return self.head.decode("utf-8", "replace")
+        rest = self.tail[-(self.total - OUTPUT_KEEP):]  # the part of the tail not already in head
+        skipped = self.total - OUTPUT_KEEP - len(rest)
+        gap = f"\n[... {skipped} bytes of output left out ...]\n" if skipped else ""
+        return self.head.decode("utf-8", "replace") + gap + rest.decode("utf-8", "replace")
+
+
+def child_env(box: Path) -> dict:
+    """A small clean environment: nothing of the grader's own environment leaks in but PATH and locale."""
+    env = {k: v for k, v in os.environ.items() if k in ("PATH", "LANG", "LC_ALL", "LD_LIBRARY_PATH")}
+    env.update(HOME=str(box), TMPDIR=str(box), PYTHONPATH=str(REPO_ROOT), PYTHONDONTWRITEBYTECODE="1",
+               PYTHONHASHSEED="0", PYTHONUNBUFFERED="1", TI_SKIP_VERSION_CHECK="ON",
+               ENABLE_TAICHI_HEADER_PRINT="0", TI_OFFLINE_CACHE_FILE_PATH=str(box / ".taichi-cache"),
+               OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1")
+    return env
+
+
+def run_child(args: list, box: Path, events_path: Path, limits: Limits) -> ChildRun:
+    """Run the child with ``args`` (after the module name); kill its process group on a stage timeout."""
+    # -P (Python 3.11+): the box (cwd) is not put on sys.path, only the repository root is.
+    safe_path = ["-P"] if sys.version_info >= (3, 11) else []
+    command = [sys.executable, *safe_path, "-m", "rigid.grading.child", "--events", str(events_path),
+               "--memory-mb", str(limits.memory_mb), "--file-mb", str(limits.file_mb), *map(str, args)]
+    start = time.monotonic()
+    proc = subprocess.Popen(command, cwd=box, env=child_env(box), stdin=subprocess.DEVNULL,
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, start_new_session=True)
+    drain = _Drain(proc.stdout)
+    drain.start()
+    reader = _EventReader(events_path)
+    stage_start, timed_out = start, False
+    while proc.poll() is None:
+        if reader.poll():
+            stage_start = time.monotonic()
+        if time.monotonic() - stage_start > limits.stage_seconds:
+            timed_out = True
+            break
+        time.sleep(0.05)
+    _kill_group(proc)
+    proc.wait()
+    drain.join(timeout=5)
+    reader.poll()
+    return ChildRun(returncode=None if timed_out else proc.returncode, timed_out=timed_out,
+                    events=reader.events, output=drain.text(), seconds=time.monotonic() - start)
+
+
+def _kill_group(proc) -> None:
+    """SIGKILL the child's process group (the child and anything it started), if any is left."""
+    try:
+        os.killpg(proc.pid, signal.SIGKILL)
+    except (ProcessLookupError, PermissionError):
+        pass
+
+
+class _EventReader:
+    """Read the child's JSON-lines events as they arrive; poll() says whether a new stage began."""
+
+    def __init__(self, path: Path):
+        self.path, self.offset, self.events, self.partial = path, 0, [], b""
+
+    def poll(self) -> bool:
+        try:
+            with open(self.path, "rb") as f:
+                f.seek(self.offset)
+                data = f.read()
+        except FileNotFoundError:
+            return False
+        self.offset += len(data)
+        lines = (self.partial + data).split(b"\n")
+        self.partial = lines.pop()
+        new_stage = False
+        for line in lines:
+            try:
+                event = json.loads(line)
+            except ValueError:
+                continue  # not ours: a submission that wrote into the file; ignored
+            if isinstance(event, dict):
+                self.events.append(event)
+                new_stage |= "phase" in event
+        return new_stage
