@@ -6,8 +6,8 @@ bounding box. Inside/outside comes from one ray per grid column: the line
 parallel to z through the column's (x, y) is intersected with every triangle
 (vectorised numpy; candidate pairs from each triangle's (x, y) bounding box),
 and a cell centre is inside when an odd number of crossings lie below it (the
-even–odd rule; a histogram of crossings per cell and a cumulative sum along
-the column count them, no sort needed). Cost: O(columns touched by
+even–odd rule; each crossing flips a bit at the first cell above it and a
+cumulative XOR along the column gives the parity, no sort needed). Cost: O(columns touched by
 triangles + cells), 0.04–0.1 s for a million particles here, where trimesh's
 ``contains`` (a ray test per point) takes minutes and ``voxelized().fill()``
 keeps the boundary voxels (4–6 % too much inertia at 64 cells).
@@ -32,6 +32,7 @@ from .errors import UserError
 # only centres within ~1e-7 h of the surface can be classified by the moved ray, yet far
 # above round-off (1e-16 h), and irrational-looking, so no mesh edge lies on them.
 RAY_OFFSETS = ((1.23457e-7, 0.98765e-7), (-2.71828e-6, 3.14159e-6), (4.14214e-5, -1.73205e-5))
+MAX_CELLS = 2 ** 27  # 512³: beyond this the particles alone take gigabytes
 MAX_PAIRS = 4_000_000  # (triangle, column) candidates per chunk: bounds the memory to ~0.5 GB
 
 
@@ -46,6 +47,9 @@ def sample_volume(vertices: np.ndarray, faces: np.ndarray, grid: int) -> np.ndar
     lo, hi = vertices.min(axis=0), vertices.max(axis=0)
     h = float((hi - lo).max()) / grid
     counts = np.maximum(1, np.ceil((hi - lo) / h - 1e-9).astype(np.int64))
+    if int(np.prod(counts)) > MAX_CELLS:
+        raise UserError(f"--grid {grid} makes a {counts[0]}x{counts[1]}x{counts[2]} grid, more than "
+                        f"{MAX_CELLS:.3g} cells (gigabytes of particles); use a smaller --grid, e.g. 128")
     origin = (lo + hi) / 2 - counts * h / 2  # the grid's corner; cell (i, j, k) centre = origin + (i+½, j+½, k+½) h
     triangles = vertices[faces]  # (F, 3 corners, 3)
     inside = _inside_cells(triangles, origin, h, counts)
@@ -97,7 +101,8 @@ def _column_parity(triangles, origin, h, counts, offset, columns):
     nx, ny, nz = (int(c) for c in counts)
     slot = np.full(nx * ny, -1, dtype=np.int64)
     slot[columns] = np.arange(len(columns))
-    toggles = np.zeros(len(columns) * (nz + 1), dtype=np.int64)  # +1 at the first cell above a crossing
+    # Bit per (column, cell): flipped at the first cell above each crossing; one byte per cell.
+    toggles = np.zeros(len(columns) * (nz + 1), dtype=np.uint8)
     # Ray of column (i, j) passes through (origin + (i+½) h + offset) in x and y.
     xy = triangles[:, :, :2] - origin[:2] - offset  # (F, 3, 2) in grid units after / h
     cell_lo = np.ceil(xy.min(axis=1) / h - 0.5).astype(np.int64)  # first column index whose ray is >= min
@@ -130,10 +135,11 @@ def _column_parity(triangles, origin, h, counts, offset, columns):
              + wc[hit] * triangles[tri, 2, 2]) / area[hit]
         # Cell k's centre is origin_z + (k+½) h: the crossing flips every cell from k_first up.
         k_first = np.clip(np.ceil((z - origin[2]) / h - 0.5), 0, nz).astype(np.int64)
-        toggles += np.bincount(rows * (nz + 1) + k_first, minlength=len(toggles))
-    counted = np.cumsum(toggles.reshape(len(columns), nz + 1), axis=1)
-    odd = (counted[:, -1] % 2) == 1
-    return (counted[:, :nz] % 2) == 1, odd
+        where, count = np.unique(rows * (nz + 1) + k_first, return_counts=True)
+        toggles[where] ^= (count & 1).astype(np.uint8)
+    # Parity of the crossings below each cell centre; the last slot holds the column's total.
+    parity = np.bitwise_xor.accumulate(toggles.reshape(len(columns), nz + 1), axis=1)
+    return parity[:, :nz].astype(bool), parity[:, -1] == 1
 
 
 def _chunks(pairs_per_triangle):
