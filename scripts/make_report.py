@@ -84,7 +84,7 @@ def flip_figure(get_sim, path, duration: float) -> dict:
     """The T-handle's intermediate-axis flip, simulator vs scipy's solve_ivp."""
     from rigid import experiments, reference
 
-    omega0 = (0.01, 6.0, 0.0)
+    omega0 = experiments.FLIP_W0
     result = experiments.flip(get_sim, omega0=omega0, duration=duration)
     sim = get_sim(**experiments.T_HANDLE, gravity=(0.0, 0.0, 0.0), initial_angular_velocity=omega0)
     traj = experiments.record(sim, int(duration * 100), 10)

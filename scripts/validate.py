@@ -29,7 +29,6 @@ import rigid  # noqa: E402,F401  (sets Taichi's environment before taichi is imp
 SCHEMES = ("euler", "symplectic", "rk4")
 ORDER_DTS = {"euler": (1 / 250, 1 / 500, 1 / 1000), "symplectic": (1 / 250, 1 / 500, 1 / 1000),
              "rk4": (1 / 60, 1 / 120, 1 / 240)}
-FLIP_W0 = (0.0, 6.0, 1.5)
 
 
 def integrator_runs(get) -> dict:
@@ -47,7 +46,7 @@ def integrator_runs(get) -> dict:
         r["bounce_damped"] = _bounce_summary(ex.bounce_energy(get, scheme))
         r["bounce_undamped"] = _bounce_summary(ex.bounce_energy(get, scheme, damping=False))
         flip_dts = (1e-3, 2.5e-4, 1e-4) if scheme != "rk4" else (1 / 60, 1 / 240)
-        r["flip"] = [_flip_summary(ex.flip(get, scheme, dt, FLIP_W0, duration=7.0), dt) for dt in flip_dts]
+        r["flip"] = [_flip_summary(ex.flip(get, scheme, dt, ex.FLIP_W0, duration=7.0), dt) for dt in flip_dts]
         r["seconds"] = round(time.perf_counter() - start, 2)
         print(f"  {scheme}: {r['seconds']} s", file=sys.stderr)
     return out

@@ -18,8 +18,7 @@ from rigid.runtime import init_taichi  # noqa: E402
 from rigid.units import load_units  # noqa: E402
 
 # The flip, where explicit Euler's energy drift moves the orbit: Δt = 1e-4 keeps Euler's period
-# error near 1 % (at the default 1e-3 it is 6 %: see scripts/validate.py); RK4 at 1/240 s.
-FLIP_W0 = (0.0, 6.0, 1.5)
+# error near 1 % (at the default 1e-3 it is 6 %: see scripts/validate.py); RK4 at 1/240 s. ω0 is rigid.experiments.FLIP_W0.
 EULER_DTS = (1 / 250, 1 / 500, 1 / 1000)
 RK4_DTS = (1 / 60, 1 / 120, 1 / 240)
 
@@ -41,8 +40,8 @@ def main() -> None:
     run("accuracy_euler", ex.accuracy, "euler", EULER_DTS)
     run("accuracy_symplectic", ex.accuracy, "symplectic", EULER_DTS)
     run("accuracy_rk4", ex.accuracy, "rk4", RK4_DTS)
-    run("flip_euler", ex.flip, "euler", 1e-4, FLIP_W0, duration=7.0)
-    run("flip_rk4", ex.flip, "rk4", 1 / 240, FLIP_W0, duration=7.0)
+    run("flip_euler", ex.flip, "euler", 1e-4, ex.FLIP_W0, duration=7.0)
+    run("flip_rk4", ex.flip, "rk4", 1 / 240, ex.FLIP_W0, duration=7.0)
     for axis in (0, 1, 2):
         run(f"spin_axis_{axis}", ex.axis_stability, axis)
     run("drop", ex.symmetric_drop)
