@@ -42,10 +42,17 @@ class ControlPanel:
             w.text(f"kinetic {kinetic:.4g} J   potential {potential:.4g} J")
             w.text(f"total E {kinetic + potential:.4g} J")
             w.text(f"|P| {np.linalg.norm(snap['P']):.4g} kg m/s   |L| {np.linalg.norm(snap['L']):.4g} kg m²/s")
-            dt_ms = w.slider_float("dt [ms]", float(prm.dt[None]) * 1e3, 0.05, 4.0)
-            stiffness = w.slider_float("stiffness k", float(prm.collision_stiffness[None]), 0.0, 1e5)
-            damping = w.slider_float("damping", float(prm.velocity_damping_stiffness[None]), 0.0, 5e3)
-            friction = w.slider_float("friction mu", float(prm.friction_stiffness[None]), 0.0, 1.0)
+            # (label, parameter, shown value = parameter x scale, slider range)
+            sliders = [("dt [ms]", "dt", 1e3, 0.05, 4.0),
+                       ("stiffness k", "collision_stiffness", 1.0, 0.0, 1e5),
+                       ("damping", "velocity_damping_stiffness", 1.0, 0.0, 5e3),
+                       ("friction mu", "friction_stiffness", 1.0, 0.0, 1.0)]
+            moved = {}
+            for label, name, scale, low, high in sliders:
+                shown = float(getattr(prm, name)[None]) * scale
+                new = w.slider_float(label, shown, low, high)
+                if _differs(new, shown):
+                    moved[name] = new / scale
             gravity = prm.gravity[None].to_numpy()
             gravity_y = w.slider_float("gravity y", float(gravity[1]), -30.0, 0.0)
             self.wireframe = w.checkbox("wireframe", self.wireframe)
@@ -56,20 +63,16 @@ class ControlPanel:
             w.text(HELP)
             if self.message:
                 w.text(self.message, color=(1.0, 0.35, 0.3))
-        changed = self._write(prm, dt=dt_ms * 1e-3, collision_stiffness=stiffness,
-                              velocity_damping_stiffness=damping, friction_stiffness=friction)
-        if gravity_y != float(gravity[1]):
+        for name, value in moved.items():
+            getattr(prm, name)[None] = max(value, 1e-5) if name == "dt" else value
+        changed = bool(moved)
+        if _differs(gravity_y, gravity[1]):
             prm.gravity[None] = (float(gravity[0]), gravity_y, float(gravity[2]))
             changed = True
         pressed["params_changed"] = changed
         return pressed
 
-    @staticmethod
-    def _write(prm, **values) -> bool:
-        changed = False
-        for name, value in values.items():
-            field = getattr(prm, name)
-            if value != float(field[None]):
-                field[None] = max(value, 1e-5) if name == "dt" else value
-                changed = True
-        return changed
+
+def _differs(new: float, old: float) -> bool:
+    """Did the user move the slider? imgui rounds to float32, so compare there."""
+    return bool(np.float32(new) != np.float32(old))

@@ -44,6 +44,7 @@ def main() -> int:
     p.add_argument("--no-cli", action="store_true", help="skip the fresh-process run")
     args = p.parse_args()
     frames, size = args.frames, tuple(args.resolution)
+    load_before = os.getloadavg()[0]
 
     from rigid.config import SimConfig, load_scene
     from rigid.encoders import Mp4Writer
@@ -120,7 +121,9 @@ def main() -> int:
             results["cli"]["command"] = "python rigid_body_dynamic.py --scene assets/scenes/bouncing_torus.toml " \
                                         f"--record out.mp4 --frames {frames} --resolution {size[0]} {size[1]}"
     results["machine"] = dict(cpus=os.cpu_count(), platform=platform.platform(), python=platform.python_version(),
-                              vulkan="Mesa lavapipe (software)" if _lavapipe_only() else "see vulkaninfo")
+                              vulkan="Mesa lavapipe (software)" if _lavapipe_only() else "see vulkaninfo",
+                              load_average_1min_before=load_before, load_average_1min_after=os.getloadavg()[0],
+                              note="the machine is shared: a load average above 0 means other work ran too")
     results["goal"] = "600 frames at 1280x720 of a ~4000-vertex mesh in <= 20 s wall on 2 cores"
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)
@@ -134,7 +137,8 @@ def main() -> int:
 
 
 def _phase(seconds: float, frames: int) -> dict:
-    return dict(seconds=round(seconds, 3), fps=round(frames / seconds, 1), ms_per_frame=round(1e3 * seconds / frames, 2))
+    return dict(seconds=round(seconds, 3), fps=round(frames / seconds, 1),
+                ms_per_frame=round(1e3 * seconds / frames, 2))
 
 
 def _lavapipe_only() -> bool:

@@ -120,9 +120,11 @@ def test_no_vulkan_is_one_line_naming_the_package(falling_sphere, tmp_path, monk
     message = str(err.value)
     assert "\n" not in message and "sudo apt-get install mesa-vulkan-drivers" in message
     # and the real probe answers without Taichi when the loader finds no driver
-    env = dict(os.environ, VK_ICD_FILENAMES=str(tmp_path / "none.json"), VK_DRIVER_FILES=str(tmp_path / "none.json"))
-    probe = subprocess.run([sys.executable, "-c", "from rigid.vulkan import vulkan_problem; print(vulkan_problem())"],
-                           cwd=ROOT, env=env, capture_output=True, text=True, timeout=30)
+    nowhere = str(tmp_path / "none.json")
+    env = dict(os.environ, VK_ICD_FILENAMES=nowhere, VK_DRIVER_FILES=nowhere)
+    code = "from rigid.vulkan import vulkan_problem; print(vulkan_problem())"
+    probe = subprocess.run([sys.executable, "-c", code], cwd=ROOT, env=env, capture_output=True, text=True,
+                           timeout=30)
     assert probe.stdout.startswith("no Vulkan"), probe.stdout + probe.stderr
 
 
