@@ -29,6 +29,7 @@ Two paths run a frame (``advance``), chosen by particle count:
 import taichi as ti
 
 from .blocks import ParticleBlocks
+from .matvec import matvec
 from .rotation import quaternion_to_matrix
 from .wrench import make_wrench
 
@@ -111,23 +112,23 @@ class Integrator:
                 x, R, v, omega = s.x[b], s.R[b], s.v[b], s.omega[b]
                 start = model.body_start[b]
                 for i in range(start, start + model.body_count[b]):
-                    r = R @ model.r0[i]
+                    r = matvec(R, model.r0[i])
                     s.particle_x[i] = x + r
                     s.particle_v[i] = v + omega.cross(r)
             x0, R0 = s.x[0], s.R[0]
             for k in range(model.num_surface):
-                s.surface_x[k] = x0 + R0 @ model.surface_r0[k]
+                s.surface_x[k] = x0 + matvec(R0, model.surface_r0[k])
 
         @ti.func
         def write_particles_parallel():
             # At a kernel's top level both loops run in parallel (parallel.py, after a frame).
             for i in range(model.num_particles):
                 b = model.particle_body[i]
-                r = s.R[b] @ model.r0[i]
+                r = matvec(s.R[b], model.r0[i])
                 s.particle_x[i] = s.x[b] + r
                 s.particle_v[i] = s.v[b] + s.omega[b].cross(r)
             for k in range(model.num_surface):
-                s.surface_x[k] = s.x[0] + s.R[0] @ model.surface_r0[k]
+                s.surface_x[k] = s.x[0] + matvec(s.R[0], model.surface_r0[k])
 
         @ti.kernel
         def advance_serial(n: ti.i32):
@@ -147,7 +148,7 @@ class Integrator:
             for b in range(num_bodies):
                 # At q = identity the world and body frames agree: L = I0 ω0.
                 q = ti.Vector([1.0, 0.0, 0.0, 0.0])
-                store(b, x0, q, model.body_mass[b] * v0, model.inertia_body[b] @ w0)
+                store(b, x0, q, model.body_mass[b] * v0, matvec(model.inertia_body[b], w0))
             write_particles_serial()
 
         @ti.kernel

@@ -23,6 +23,7 @@ any thread then in block order (parallel.py): the same order either way.
 import taichi as ti
 
 from .contact import box_force, floor_force
+from .matvec import column_dot, matvec
 
 CLEAR_MARGIN = 1e-5  # relative padding of the clear test (see the module docstring)
 
@@ -47,10 +48,10 @@ def make_wrench(model, params, blocks, units):
     @ti.func
     def rotation_gain(R):
         """Upper bound on |R r| / |r|: sqrt of the largest Gershgorin row sum of RᵀR."""
-        G = R.transpose() @ R
         bound = 0.0
         for i in ti.static(range(3)):
-            bound = ti.max(bound, ti.abs(G[i, 0]) + ti.abs(G[i, 1]) + ti.abs(G[i, 2]))
+            bound = ti.max(bound, ti.abs(column_dot(R, i, 0)) + ti.abs(column_dot(R, i, 1))
+                           + ti.abs(column_dot(R, i, 2)))
         return ti.sqrt(bound)
 
     @ti.func
@@ -60,7 +61,7 @@ def make_wrench(model, params, blocks, units):
         if prm.walls[None]:
             floor, wall = prm.floor[None], prm.wall[None]
             centre, radius = bl.block_centre[k], bl.block_radius[k]
-            c = x + R @ centre
+            c = x + matvec(R, centre)
             size = ti.abs(x).max() + gain * (ti.abs(centre).sum() + radius) + ti.abs(floor) + ti.abs(wall)
             reach = gain * radius + CLEAR_MARGIN * size
             # Written so that a NaN makes a plane near: comparisons with NaN are false.
@@ -83,7 +84,7 @@ def make_wrench(model, params, blocks, units):
             k, kd, mu = prm.collision_stiffness[None], prm.velocity_damping_stiffness[None], prm.friction_stiffness[None]
             for j in range(start, end):
                 r0 = bl.r0[j]
-                r = R @ r0
+                r = matvec(R, r0)
                 p = x + r
                 f = u.gravity_force(m, g)
                 if ti.static(planes == "floor"):
