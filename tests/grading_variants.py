@@ -88,11 +88,13 @@ CORRECT = ("ok_alt_a", "ok_alt_b")
 APPENDED = {
     "crash_at_import": "\nraise RuntimeError('student code is broken')\n",
     "exit_at_import": "\nimport sys\nsys.exit(3)\n",
-    "hang_at_import": "\nwhile True:\n    pass\n",
+    # Waits forever without burning CPU (the stage timer treats a busy loop the same; see hang_in_todo6).
+    "hang_at_import": "\nimport time\nwhile True:\n    time.sleep(1)\n",
     "memory_hog": "\nhog = bytearray(64 * 1024 ** 3)\n",
-    "flood": "\nfor _ in range(20000):\n    print('x' * 1000)\n",
-    "writes_home": "\nfrom pathlib import Path\n(Path.home() / 'grader_probe.txt').write_text('hi')\n"
-                   "Path('relative_probe.txt').write_text('hi')\n",
+    # 20 MB of prints, and files written to HOME and to the working folder: harmless, full marks.
+    "flood_and_writes": "\nfrom pathlib import Path\n(Path.home() / 'grader_probe.txt').write_text('hi')\n"
+                        "Path('relative_probe.txt').write_text('hi')\n"
+                        "for _ in range(20000):\n    print('x' * 1000)\n",
 }
 # TODO 6 loops forever at run time (a realistic "while |q| != 1" slip).
 HANG_IN_TODO6 = {L_NORM: "while new_q.norm() > 0.5:\n        new_q = new_q * 1.0"}

@@ -8,8 +8,8 @@ the trajectory check compares with a reference run in the same order.
 
 ``check_trajectories`` then runs the engine once with every unit that passed
 its direct check taken from the submission (the others from the reference)
-and compares x, q, L with the reference run. Only if that run strays (or
-crashes) does it run each such unit alone, so the blame lands on one TODO.
+and compares x, q, L with the reference run. Only if that run strays does it
+halve the group until single units, so the blame lands on the TODOs that stray.
 A submission graded TODO by TODO thus compiles two simulators, not eight.
 """
 import types
@@ -93,8 +93,9 @@ def check_trajectories(events, module, reference, results: dict, expected, per_t
             text = trajectory.summary(errors) if ok else trajectory.describe(errors)
         except Exception as err:
             ok, text = False, f"the simulation with it fails: {explain(err)}"
-        if not ok and len(todos) > 1:
-            groups = [[k] for k in todos] + groups  # find which unit strays, one at a time
+        if not ok and len(todos) > 1:  # find which unit strays: halve the group until single units
+            half = len(todos) // 2
+            groups = [todos[:half], todos[half:]] + groups
             continue
         message = text if ok else f"right on single calls, but a simulation with it strays from the reference: {text}"
         events.emit(event="trajectory", todos=todos, passed=ok, message=message)

@@ -35,11 +35,17 @@ def table(results: list) -> str:
 
 
 def details(results: list) -> str:
+    """The messages of lost TODOs per submission; one line when every TODO lost for the same reason."""
     lines = []
     for r in results:
         lost = feedback(r)
-        if lost:
-            lines.append(f"{r['submission']}:")
+        if not lost:
+            continue
+        lines.append(f"{r['submission']}:")
+        reasons = {m.split(": ", 1)[-1] for m in lost}
+        if len(lost) == len(TODOS) and len(reasons) == 1:
+            lines.append(f"  TODOs 1-{len(TODOS)}: {reasons.pop()}")
+        else:
             lines.extend(f"  {m}" for m in lost)
     return "\n".join(lines)
 

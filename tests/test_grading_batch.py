@@ -1,0 +1,132 @@
+"""The grader end to end through scripts/grade.py, in two batches run side by side.
+
+A first run grades the solution alone (it scores 90/90; it also prepares the
+reference once per grader version). Main batch (a folder of .py files, a
+subfolder and a zip): the handout scores 0 on every TODO, each wrong variant loses exactly its
+TODO's points with a message naming the mistake, two correct-but-different
+variants score full marks, a print flood and writes to HOME cost nothing.
+Misbehaving batch (--timeout 5): a crash, a sys.exit, an endless loop at
+import, an endless loop inside TODO 6 and a memory hog each lose only their
+own points, within the time limit. Both write JSON and CSV.
+"""
+import csv
+import json
+import subprocess
+import sys
+import time
+import zipfile
+from pathlib import Path
+
+import pytest
+
+from conftest import ROOT
+from grading_variants import CORRECT, SOLUTION, WRONG, make
+from rigid.grading.handout import make_handout
+
+MISBEHAVING = ("crash_at_import", "exit_at_import", "hang_at_import", "hang_in_todo6", "memory_hog")
+TIMEOUT = 5
+
+
+def _grade(folder: Path, out: Path, *extra) -> subprocess.Popen:
+    return subprocess.Popen([sys.executable, str(ROOT / "scripts" / "grade.py"), str(folder), "--jobs", "2",
+                             "--json", str(out / "grades.json"), "--csv", str(out / "grades.csv"), *extra],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+
+
+@pytest.fixture(scope="module")
+def batches(tmp_path_factory):
+    base = tmp_path_factory.mktemp("grading")
+    main, bad = base / "main", base / "bad"
+    main.mkdir()
+    bad.mkdir()
+    for name in [*WRONG, "flood_and_writes"]:
+        (main / f"{name}.py").write_text(make(name))
+    (base / "solution.py").write_text(SOLUTION)
+    (main / "handout.py").write_text(make_handout(SOLUTION))
+    nested = main / "bob_folder" / "work"
+    nested.mkdir(parents=True)
+    (nested / "rigid_body_dynamic.py").write_text(make(CORRECT[1]))
+    with zipfile.ZipFile(main / "3035123456_alice_assignment3.zip", "w") as z:
+        z.writestr("alice/rigid_body_dynamic.py", make(CORRECT[0]))
+        z.writestr("__MACOSX/alice/._rigid_body_dynamic.py", "junk")
+    for name in MISBEHAVING:
+        (bad / f"{name}.py").write_text(make(name))
+    probe = Path.home() / "grader_probe.txt"
+    probe.unlink(missing_ok=True)
+    # The reference is prepared once per grader version; do it before starting two batches at once.
+    warm = subprocess.run([sys.executable, str(ROOT / "scripts" / "grade.py"), str(base / "solution.py"),
+                           "--json", str(base / "solution.json")], capture_output=True, text=True, timeout=300)
+    assert warm.returncode == 0, warm.stderr
+    solution = json.loads((base / "solution.json").read_text())[0]
+    start = time.monotonic()
+    procs = {"main": _grade(main, main), "bad": _grade(bad, bad, "--timeout", str(TIMEOUT))}
+    outputs = {k: p.communicate(timeout=600) for k, p in procs.items()}
+    elapsed = time.monotonic() - start
+    for k, p in procs.items():
+        assert p.returncode == 0, outputs[k][1]
+    result = {k: {Path(r["submission"]).stem: r for r in json.loads((folder / "grades.json").read_text())}
+              for k, folder in (("main", main), ("bad", bad))}
+    result["main"]["solution"] = solution
+    return dict(result=result, stdout={k: o[0] for k, o in outputs.items()}, folders=dict(main=main, bad=bad),
+                elapsed=elapsed, probe=probe)
+
+
+def points(r):
+    return {int(k): t["points"] for k, t in r["todos"].items()}
+
+
+def test_solution_full_handout_zero(batches):
+    res = batches["result"]["main"]
+    assert res["solution"]["total"] == 90 == res["solution"]["max_total"]
+    assert all(t["passed"] for t in res["solution"]["todos"].values())
+    assert res["handout"]["total"] == 0
+    assert all("placeholder" in t["message"] for t in res["handout"]["todos"].values())
+
+
+@pytest.mark.parametrize("name", sorted(WRONG))
+def test_wrong_variant_loses_exactly_its_todo(batches, name):
+    todo, words = WRONG[name]
+    r = batches["result"]["main"][name]
+    got = points(r)
+    assert got[todo] == 0 and not r["todos"][str(todo)]["passed"]
+    assert all(got[k] == r["todos"][str(k)]["max"] > 0 for k in got if k != todo), r["todos"]
+    message = r["todos"][str(todo)]["message"]
+    assert message.startswith(f"TODO {todo}:") and all(w in message for w in words), message
+
+
+def test_correct_but_different_and_harmless_misbehaviour_score_full(batches):
+    res = batches["result"]["main"]
+    for name in ("bob_folder", "3035123456_alice_assignment3", "flood_and_writes"):
+        assert res[name]["total"] == 90, (name, res[name]["todos"])
+    assert "velocity-first" in res["3035123456_alice_assignment3"]["todos"]["5"]["message"]
+    out = res["flood_and_writes"]["output"]
+    assert len(out) < 5000 and "bytes of output left out" in out  # 20 MB of prints, truncated
+    assert not batches["probe"].exists()  # HOME pointed into the child's temporary folder
+
+
+def test_misbehaving_submissions_lose_only_their_points_within_the_limit(batches):
+    res = batches["result"]["bad"]
+    for name, words in (("crash_at_import", "RuntimeError"), ("exit_at_import", "sys.exit"),
+                        ("hang_at_import", f"did not finish within {TIMEOUT} s"), ("memory_hog", "memory")):
+        assert res[name]["total"] == 0, name
+        assert all(words in t["message"] for t in res[name]["todos"].values()), res[name]["todos"]
+    hang6 = res["hang_in_todo6"]
+    assert points(hang6)[6] == 0 and hang6["total"] == 75  # the other six TODOs graded in a fresh process
+    assert "update_orientation did not finish" in hang6["todos"]["6"]["message"]
+    assert res["hang_at_import"]["seconds"] < TIMEOUT + 5
+    assert hang6["seconds"] < 2 * TIMEOUT + 20
+
+
+def test_csv_has_a_row_per_submission_and_a_column_per_todo(batches):
+    folder = batches["folders"]["main"]
+    rows = list(csv.DictReader((folder / "grades.csv").open(encoding="utf-8")))
+    assert len(rows) == len(batches["result"]["main"]) - 1 == len(WRONG) + 4  # all but the solution
+    assert list(rows[0]) == ["submission", "uid", "name", *(f"todo{k}" for k in range(1, 8)), "total",
+                             "max_total", "feedback"]
+    alice = next(r for r in rows if r["submission"].endswith(".zip"))
+    assert (alice["uid"], alice["name"], alice["total"]) == ("3035123456", "alice", "90")
+    wrong = next(r for r in rows if r["submission"].endswith("t2_sign.py"))
+    assert (wrong["todo2"], wrong["total"]) == ("0", "80") and "TODO 2" in wrong["feedback"]
+    assert "points per TODO" in batches["stdout"]["main"] and "total 90" in batches["stdout"]["main"]
+    print(f"two batches ({len(rows)} + {len(MISBEHAVING)} submissions, --jobs 2 each): "
+          f"{batches['elapsed']:.1f} s")
