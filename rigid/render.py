@@ -27,6 +27,8 @@ FLOOR_TILES = 8  # per side
 
 
 class SceneRenderer:
+    """A GGUI window (shown, or offscreen for recording) that draws one simulator's scene."""
+
     def __init__(self, sim, resolution=(1280, 720), offscreen=False, title="Rigid body",
                  fps_limit=1000):
         require_vulkan("the window" if not offscreen else "recording (--record)")
