@@ -42,7 +42,8 @@ def check_direct(spec, unit, expected: dict) -> dict:
     except MemoryError:
         return dict(passed=False, message=f"TODO {k}: {spec.unit} ran out of memory while compiling")
     except Exception as err:  # a compile error of the student's code: any Taichi or Python exception
-        return dict(passed=False, message=f"TODO {k}: {spec.unit} does not compile or run: {explain(err)}")
+        return dict(passed=False, message=f"TODO {k}: {spec.unit} does not compile or run: {explain(err)} "
+                                          f"(it must return {returns(spec)})")
     for form, ref in expected.items():
         if all(close(sub[name], ref[name]) for name, *_ in spec.outputs):
             worst = max(error(sub[name], ref[name]) for name, *_ in spec.outputs)
@@ -57,6 +58,12 @@ def check_direct(spec, unit, expected: dict) -> dict:
     problems = [diagnose_output(spec, name, sub[name], ref[name], inputs, sub)
                 for name, *_ in spec.outputs if not close(sub[name], ref[name])]
     return dict(passed=False, message=f"TODO {k}: " + "; ".join(problems))
+
+
+def returns(spec) -> str:
+    kinds = {(): "a number", (3,): "a 3-vector", (4,): "a 4-vector", (3, 3): "a 3x3 matrix"}
+    parts = [f"{kinds[shape]} ({label})" for _n, shape, label in spec.outputs]
+    return parts[0] if len(parts) == 1 else "a tuple: " + ", ".join(parts)
 
 
 def is_placeholder(spec, sub: dict, inputs: dict) -> bool:

@@ -14,6 +14,8 @@ from ..config import REPO_ROOT
 from ..errors import UserError
 from .specs import DEFAULT_POINTS, TODOS
 
+MIN_MEMORY_MB = 2048  # measured: a grading child fails at 1536 MB and passes at 1792 MB (RLIMIT_AS)
+
 
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
@@ -33,7 +35,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="wall-time limit of each stage of grading one submission: its import, each TODO's "
                         "check, each simulation (default 60)")
     p.add_argument("--memory-mb", type=int, default=4096, metavar="MB",
-                   help="address-space limit of each grading process (default 4096; Taichi needs ~2000)")
+                   help=f"address-space limit of each grading process (default 4096, at least {MIN_MEMORY_MB}: "
+                        f"Taichi's LLVM alone needs ~1800)")
     p.add_argument("--reference", default=str(REPO_ROOT / "rigid_body_dynamic.py"), metavar="FILE",
                    help="the solution to grade against (default: the repository's rigid_body_dynamic.py)")
     p.add_argument("--cache-dir", metavar="DIR", help="where the reference's answers and compiled kernels "
@@ -73,8 +76,11 @@ def _run(args) -> int:
     points = parse_points(args.points)
     if args.jobs < 1:
         raise UserError(f"--jobs {args.jobs}: use 1 or more")
-    if not args.timeout > 0 or args.memory_mb < 256:
-        raise UserError("--timeout must be positive and --memory-mb at least 256")
+    if not args.timeout > 0:
+        raise UserError(f"--timeout {args.timeout:g}: use a positive number of seconds")
+    if args.memory_mb < MIN_MEMORY_MB:
+        raise UserError(f"--memory-mb {args.memory_mb}: Taichi alone needs about 1800 MB of address space; "
+                        f"use {MIN_MEMORY_MB} or more")
     for out, suffix in ((args.json, ".json"), (args.csv, ".csv")):
         if out:
             check_output_path(out, (suffix,))
