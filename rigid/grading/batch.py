@@ -21,7 +21,7 @@ from pathlib import Path
 
 from ..config import REPO_ROOT
 from ..errors import UserError
-from .grade_submission import Settings, _why, grade_submission
+from .grade_submission import Settings, grade_submission, stop_reason
 from .sandbox import Limits, run_child
 
 KEEP_VERSIONS = 4
@@ -61,7 +61,8 @@ def prepare(reference: Path, limits: Limits, cache_root: Path, log=print) -> Set
         run = run_child(["--make-expected", tmp / "expected.npz", "--reference", reference], box,
                         tmp / "events.jsonl", limits)
         if not run.done:
-            raise UserError(f"computing the reference's answers failed: it {_why(run, limits)}\n{run.output}")
+            raise UserError(f"computing the reference's answers failed: it {stop_reason(run, limits)}:\n"
+                            f"{run.output}")
         shutil.copytree(box / ".taichi-cache", tmp / "taichi", dirs_exist_ok=True)
         check = Settings(reference, tmp / "expected.npz", tmp / "taichi", limits=limits)  # the generous limits
         result = grade_submission("reference", reference.read_bytes(), check, cache_out=tmp / "taichi")
@@ -92,8 +93,11 @@ def _forget_old(cache_root: Path, keep: int) -> None:
 def grade_batch(submissions, settings: Settings, jobs: int = 1, on_result=None) -> list:
     """Results (grade_submission's dicts) in the order of ``submissions``; on_result(i, result) as each ends."""
     def one(i, sub):
-        source, problem = sub.read()
-        result = grade_submission(sub.name, source, settings, problem)
+        try:
+            source, problem = sub.read()
+            result = grade_submission(sub.name, source, settings, problem)
+        except Exception as err:  # the grader's own trouble (a full disk ...): this one fails, the batch goes on
+            result = grade_submission(sub.name, None, settings, f"internal error of the grader: {err!r}")
         result["student"] = dict(zip(("uid", "name"), sub.student))
         if on_result:
             on_result(i, result)

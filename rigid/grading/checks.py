@@ -1,16 +1,18 @@
 """The checks of a submission's TODOs, run inside the child process.
 
-``check_direct(spec, unit, reference, alternative)`` calls the submission's
-unit and the reference unit on the same seeded inputs (specs.sample_inputs)
-and returns {"passed", "message", "form"?}. TODO 5 also passes in the
-velocity-first order (alternatives.py); "form" records which order matched, so
-the trajectory check compares with a reference run in the same order.
+``check_direct(spec, unit, expected)`` calls the submission's unit on the
+seeded inputs (specs.sample_inputs) and compares with the reference's answers
+(expected.py) within diagnose.RTOL; it returns {"passed", "message", "form"}.
+TODO 5 also passes in the velocity-first order (alternatives.py); "form"
+records which order matched, so the trajectory check compares with a reference
+run in the same order.
 
 ``check_trajectories`` then runs the engine once with every unit that passed
 its direct check taken from the submission (the others from the reference)
 and compares x, q, L with the reference run. Only if that run strays does it
 halve the group until single units, so the blame lands on the TODOs that stray.
-A submission graded TODO by TODO thus compiles two simulators, not eight.
+The reference runs are precomputed, so a submission usually compiles one
+simulator, not seven.
 """
 import types
 
@@ -97,14 +99,15 @@ def check_trajectories(events, module, reference, results: dict, expected, per_t
         try:
             errors = trajectory.compare(trajectory.run(mix(reference, module, todos, velocity_first)), expected)
             ok = trajectory.passed(errors)
-            text = trajectory.summary(errors) if ok else trajectory.describe(errors)
+            message = trajectory.summary(errors) if ok else (
+                f"right on single calls, but a simulation with it strays from the reference: "
+                f"{trajectory.describe(errors)}")
         except Exception as err:
-            ok, text = False, f"the simulation with it fails: {explain(err)}"
+            ok, message = False, f"right on single calls, but the simulation with it fails: {explain(err)}"
         if not ok and len(todos) > 1:  # find which unit strays: halve the group until single units
             half = len(todos) // 2
             groups = [todos[:half], todos[half:]] + groups
             continue
-        message = text if ok else f"right on single calls, but a simulation with it strays from the reference: {text}"
         events.emit(event="trajectory", todos=todos, passed=ok, message=message)
 
 

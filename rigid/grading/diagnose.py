@@ -4,10 +4,10 @@ All arrays are float64 with a first axis of K calls (see specs.py). An output
 is right when it is within ``RTOL`` of the reference, relative to the size of
 the reference output over all calls (round-off, float32 literals and any
 equivalent algebra pass; every mistake we know differs by 1e-3 or more with
-the grader's masses and Δt). Wrong outputs are named by, in order: a known
-quantity that follows from the submission's own other (wrong) outputs, a known
-mistake (mistakes.py), then generic tests (zero, unchanged, a constant or mass or Δt factor,
-right magnitude and wrong direction, wrong components).
+the grader's masses and Δt). A wrong output is named by the first of: it
+follows from the submission's own other (wrong) outputs; a known mistake
+(mistakes.py); generic tests (zero, unchanged, a constant, mass or Δt factor,
+right magnitude but wrong direction, wrong components).
 """
 import numpy as np
 

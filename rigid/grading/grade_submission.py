@@ -58,7 +58,8 @@ def grade_submission(name: str, source: bytes | None, settings: Settings, proble
             run = run_child(args + (["--per-todo-trajectories"] if per_todo else []), box,
                             Path(tmp) / f"events{attempt}.jsonl", settings.limits)
             seconds += run.seconds
-            output = run.output
+            output = "".join(line for line in run.output.splitlines(keepends=True)
+                             if not line.startswith("[Taichi] Starting on arch"))
             decided, per_todo = _interpret(run, remaining, settings.limits, per_todo)
             todos.update(decided)
         if cache_out is not None and (box / ".taichi-cache").is_dir():
@@ -96,7 +97,7 @@ def _interpret(run, remaining, limits, per_todo):
                 decided[k] = (False, f"TODO {k}: {t['message']}")
         return decided, per_todo
     # The child died or hung: blame the stage it had begun.
-    stage, why = run.last_stage, _why(run, limits)
+    stage, why = run.last_stage, stop_reason(run, limits)
     if stage["phase"] == "import":
         return {k: (False, f"TODO {k}: not graded — the file could not be imported: it {why}")
                 for k in remaining}, per_todo
@@ -119,7 +120,7 @@ def _interpret(run, remaining, limits, per_todo):
     return decided, True  # a joint run died: run each unit alone next time
 
 
-def _why(run, limits) -> str:
+def stop_reason(run, limits) -> str:
     """Why a child ended without finishing, as the end of a sentence about the submission."""
     if run.timed_out:
         return f"did not finish within {limits.stage_seconds:g} s (an endless loop?)"

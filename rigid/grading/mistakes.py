@@ -4,8 +4,10 @@
 from the inputs ``d`` (name -> (K, ...) arrays, see specs.py) what that output
 would be with the mistake. The grader never passes or fails a TODO from this
 table: pass/fail comes from the reference units; this table only says *what*
-is wrong when an output matches one of these predictions. ``ALTERNATIVES`` are
-right answers that differ from the reference (accepted).
+is wrong when an output matches one of these predictions. Right answers that
+differ from the reference live in alternatives.py. The exact rotation
+exp(½ Δt ω) ⊗ q for TODO 6 is listed here, not accepted: the assignment asks
+for the explicit Euler step (accepting it would take a Taichi twin in alternatives.py).
 """
 import numpy as np
 
@@ -148,14 +150,16 @@ def _mistakes():
         ],
         7: [
             ("L_new", "does not depend on Δt: L ← L + Δt τ", lambda d: d["L"] + d["tau"]),
-            ("L_new", "has the wrong sign of the torque term: L ← L + Δt τ", lambda d: d["L"] - col(d["dt"]) * d["tau"]),
+            ("L_new", "has the wrong sign of the torque term: L ← L + Δt τ",
+             lambda d: d["L"] - col(d["dt"]) * d["tau"]),
             ("L_new", "lacks the old L: L ← L + Δt τ", lambda d: col(d["dt"]) * d["tau"]),
             ("I_inv", "has the rotations in the wrong order: I⁻¹ = R I0⁻¹ Rᵀ, not Rᵀ I0⁻¹ R",
              lambda d: mm(mm(tr(d["R"]), d["I0_inv"]), d["R"])),
             ("I_inv", "is not rotated into the world frame: I⁻¹ = R I0⁻¹ Rᵀ", lambda d: d["I0_inv"]),
             ("I_inv", "lacks the Rᵀ on the right: I⁻¹ = R I0⁻¹ Rᵀ", lambda d: mm(d["R"], d["I0_inv"])),
             ("I_inv", "lacks the R on the left: I⁻¹ = R I0⁻¹ Rᵀ", lambda d: mm(d["I0_inv"], tr(d["R"]))),
-            ("I_inv", "must transpose the right-hand R: I⁻¹ = R I0⁻¹ Rᵀ", lambda d: mm(mm(d["R"], d["I0_inv"]), d["R"])),
+            ("I_inv", "must transpose the right-hand R: I⁻¹ = R I0⁻¹ Rᵀ",
+             lambda d: mm(mm(d["R"], d["I0_inv"]), d["R"])),
             ("I_inv", "inverts I0⁻¹ again; the engine already passes the inverse I0⁻¹",
              lambda d: mm(mm(d["R"], np.linalg.inv(d["I0_inv"])), tr(d["R"]))),
             ("omega", "uses the old L; compute ω = I⁻¹ L with the updated L", lambda d: mv(world_inv(d), d["L"])),
