@@ -1,8 +1,7 @@
 """The grader end to end through scripts/grade.py, in two batches run side by side.
 
-A first run grades the solution alone (it scores 90/90; it also prepares the
-reference once per grader version). Main batch (a folder of .py files, a
-subfolder and a zip): the handout scores 0 on every TODO, each wrong variant loses exactly its
+Main batch (a folder of .py files, a subfolder and a zip): the solution scores
+90/90, the handout 0 on every TODO, each wrong variant loses exactly its
 TODO's points with a message naming the mistake, two correct-but-different
 variants score full marks, a print flood and writes to HOME cost nothing.
 Misbehaving batch (--timeout 5): a crash, a sys.exit, an endless loop at
@@ -41,7 +40,7 @@ def batches(tmp_path_factory):
     bad.mkdir()
     for name in [*WRONG, "flood_and_writes"]:
         (main / f"{name}.py").write_text(make(name))
-    (base / "solution.py").write_text(SOLUTION)
+    (main / "solution.py").write_text(SOLUTION)
     (main / "handout.py").write_text(make_handout(SOLUTION))
     nested = main / "bob_folder" / "work"
     nested.mkdir(parents=True)
@@ -53,11 +52,6 @@ def batches(tmp_path_factory):
         (bad / f"{name}.py").write_text(make(name))
     probe = Path.home() / "grader_probe.txt"
     probe.unlink(missing_ok=True)
-    # The reference is prepared once per grader version; do it before starting two batches at once.
-    warm = subprocess.run([sys.executable, str(ROOT / "scripts" / "grade.py"), str(base / "solution.py"),
-                           "--json", str(base / "solution.json")], capture_output=True, text=True, timeout=300)
-    assert warm.returncode == 0, warm.stderr
-    solution = json.loads((base / "solution.json").read_text())[0]
     start = time.monotonic()
     procs = {"main": _grade(main, main), "bad": _grade(bad, bad, "--timeout", str(TIMEOUT))}
     outputs = {k: p.communicate(timeout=600) for k, p in procs.items()}
@@ -66,7 +60,6 @@ def batches(tmp_path_factory):
         assert p.returncode == 0, outputs[k][1]
     result = {k: {Path(r["submission"]).stem: r for r in json.loads((folder / "grades.json").read_text())}
               for k, folder in (("main", main), ("bad", bad))}
-    result["main"]["solution"] = solution
     return dict(result=result, stdout={k: o[0] for k, o in outputs.items()}, folders=dict(main=main, bad=bad),
                 elapsed=elapsed, probe=probe)
 
@@ -120,7 +113,7 @@ def test_misbehaving_submissions_lose_only_their_points_within_the_limit(batches
 def test_csv_has_a_row_per_submission_and_a_column_per_todo(batches):
     folder = batches["folders"]["main"]
     rows = list(csv.DictReader((folder / "grades.csv").open(encoding="utf-8")))
-    assert len(rows) == len(batches["result"]["main"]) - 1 == len(WRONG) + 4  # all but the solution
+    assert len(rows) == len(batches["result"]["main"]) == len(WRONG) + 5
     assert list(rows[0]) == ["submission", "uid", "name", *(f"todo{k}" for k in range(1, 8)), "total",
                              "max_total", "feedback"]
     alice = next(r for r in rows if r["submission"].endswith(".zip"))

@@ -36,7 +36,7 @@ def test_no_solution_line_and_every_hint_kept(handout):
 
 def test_runs_headless_and_sits_still(handout):
     env = dict(os.environ, PYTHONPATH=str(ROOT))
-    proc = subprocess.run([sys.executable, str(handout), "--headless", "--frames", "20", "--no-walls"],
+    proc = subprocess.run([sys.executable, str(handout), "--headless", "--frames", "20"],
                           cwd=handout.parent, env=env, capture_output=True, text=True, timeout=120)
     assert proc.returncode == 0, proc.stderr
     assert "x = [0.0, 0.0, 0.0]" in proc.stdout  # no gravity force, no motion: TODOs 2, 5 are placeholders

@@ -10,6 +10,7 @@ a warm cache that each child starts from (a private copy).
 ``grade_batch`` then grades each submission in its own child(ren),
 ``jobs`` at a time.
 """
+import fcntl
 import hashlib
 import os
 import platform
@@ -45,13 +46,25 @@ def version_stamp(reference: Path) -> str:
 
 
 def prepare(reference: Path, limits: Limits, cache_root: Path, log=print) -> Settings:
-    """Settings for grading against ``reference``; computes and self-checks it if not done yet."""
+    """Settings for grading against ``reference``; computes and self-checks it if not done yet.
+
+    A lock file makes a second batch started meanwhile wait for the first one's preparation.
+    """
     folder = cache_root / version_stamp(reference)
     settings = Settings(reference, folder / "expected.npz", folder / "taichi", limits=limits)
     if (folder / "ready").exists():
         return settings
     cache_root.mkdir(parents=True, exist_ok=True)
-    log(f"preparing the reference answers from {reference} (once per grader version) ...")
+    with open(cache_root / ".lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if not (folder / "ready").exists():
+            log(f"preparing the reference answers from {reference} (once per grader version) ...")
+            _prepare(reference, limits, cache_root, folder)
+            _forget_old(cache_root, keep=KEEP_VERSIONS)
+    return settings
+
+
+def _prepare(reference: Path, limits: Limits, cache_root: Path, folder: Path) -> None:
     # Trusted code, compiled cold: a short --timeout meant for submissions must not stop it.
     limits = Limits(max(limits.stage_seconds, 600.0), max(limits.memory_mb, 4096), limits.file_mb)
     tmp = Path(tempfile.mkdtemp(prefix=".prepare-", dir=cache_root))
@@ -64,7 +77,7 @@ def prepare(reference: Path, limits: Limits, cache_root: Path, log=print) -> Set
             raise UserError(f"computing the reference's answers failed: it {stop_reason(run, limits)}:\n"
                             f"{run.output}")
         shutil.copytree(box / ".taichi-cache", tmp / "taichi", dirs_exist_ok=True)
-        check = Settings(reference, tmp / "expected.npz", tmp / "taichi", limits=limits)  # the generous limits
+        check = Settings(reference, tmp / "expected.npz", tmp / "taichi", limits=limits)
         result = grade_submission("reference", reference.read_bytes(), check, cache_out=tmp / "taichi")
         failed = [t["message"] for t in result["todos"].values() if not t["passed"]]
         if failed:
@@ -72,14 +85,9 @@ def prepare(reference: Path, limits: Limits, cache_root: Path, log=print) -> Set
                             "the grader; nothing was graded):\n  " + "\n  ".join(failed))
         shutil.rmtree(box, ignore_errors=True)
         (tmp / "ready").write_text(f"{reference}\n")
-        try:
-            os.replace(tmp, folder)
-        except OSError:  # another batch prepared it meanwhile: use theirs
-            pass
+        os.replace(tmp, folder)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
-    _forget_old(cache_root, keep=KEEP_VERSIONS)
-    return settings
 
 
 def _forget_old(cache_root: Path, keep: int) -> None:
