@@ -22,10 +22,12 @@ Two paths run a frame (``advance``), chosen by particle count:
 - serial (``advance_serial``): one launch, one thread, every substep of every
   body; the particle sum runs block by block (wrench.py, blocks.py); launched
   through a one-kernel ``ti.graph`` (1/6 of a Python kernel call's overhead);
-- parallel (parallel.py), for bodies of ``PARALLEL_MIN_PARTICLES`` or more
-  (euler and symplectic): threads over blocks, partial sums added in a fixed
-  order, one compute-graph launch per frame.
+- parallel (parallel.py), for bodies of ``parallel_threshold()`` particles or
+  more (euler and symplectic; rk4 always runs serial): threads over blocks,
+  partial sums added in a fixed order, one compute-graph launch per frame.
 """
+import os
+
 import taichi as ti
 
 from .blocks import ParticleBlocks
@@ -33,11 +35,26 @@ from .matvec import matvec
 from .rotation import quaternion_to_matrix
 from .wrench import make_wrench
 
-# Below this many particles in the largest body, a frame runs on one thread: dispatching
-# the two tasks of a parallel substep costs ~15 µs on 2 CPU cores, more than a serial
-# substep of a smaller body (crossover measured by scripts/bench.py --crossover).
-PARALLEL_MIN_PARTICLES = 32768
+# From this many particles in the largest body up, a frame takes the parallel path on the CPU.
+# Measured on this project's 2-vCPU machine (scripts/bench.py, "crossover"): waking the worker
+# threads for each substep's parallel task costs 15-70 µs, and the particle loop of a body in
+# flight is memory-bound (~0.7 ns per particle on one core), so a second core repays the
+# wake-up only near a million particles, and mostly where contacts make the loop compute-bound.
+# Machines with more cores gain earlier: set RIGID_PARALLEL_MIN_PARTICLES to tune.
+PARALLEL_MIN_PARTICLES = 1 << 19  # 524,288
+# On a GPU the serial path runs on one GPU thread, so the parallel path is taken much earlier
+# (a guess: no GPU was available to measure it).
+PARALLEL_MIN_PARTICLES_GPU = 4096
 PARALLEL_SCHEMES = ("euler", "symplectic")
+
+
+def parallel_threshold() -> int:
+    """Particles from which ``advance`` takes the parallel path on the current Taichi arch."""
+    override = os.environ.get("RIGID_PARALLEL_MIN_PARTICLES")
+    if override:
+        return int(override)
+    on_cpu = ti.lang.impl.current_cfg().arch in (ti.x64, ti.arm64)
+    return PARALLEL_MIN_PARTICLES if on_cpu else PARALLEL_MIN_PARTICLES_GPU
 
 
 class Integrator:
@@ -47,6 +64,7 @@ class Integrator:
         self.blocks = ParticleBlocks(model)
         self.parallel = parallel
         self.largest_body = int(model.body_count.to_numpy().max())  # particles
+        self.threshold = parallel_threshold()
         self._parallel_frame = None
         self._serial_graph = None
         self._build(units)
@@ -186,7 +204,7 @@ class Integrator:
             return False
         if self.parallel is not None:
             return bool(self.parallel)
-        return self.largest_body >= PARALLEL_MIN_PARTICLES
+        return self.largest_body >= self.threshold
 
     def advance(self, substeps: int):
         """Advance every body by ``substeps`` substeps: one launch (serial) or one graph (parallel)."""

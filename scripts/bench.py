@@ -96,38 +96,57 @@ def config_for(case):
     return SimConfig(mesh=str(ASSETS / case["mesh"]), **{k: case[k] for k in keys if k in case}).validate()
 
 
-def run_case(case, units, ti) -> dict:
+_BUILT = {}  # (mesh, scale, particles, grid) -> the three implementations, reused across scenarios
+
+
+def implementations(case, config, units, ti, row) -> tuple:
+    """(baseline, engine, MuJoCo or None) for the case's body, built once, set to the case's config."""
     import bench_handout
     import bench_mujoco
     from rigid.mesh import body_geometry
     from rigid.simulator import Simulator
 
+    key = tuple(case.get(k) for k in ("mesh", "scale", "particles", "grid"))
+    if key not in _BUILT:
+        geometry = body_geometry(config)
+        r0 = geometry.particles - geometry.particles.mean(axis=0)
+        baseline = bench_handout.HandoutLoop(r0, config.particle_mass, units, config)
+        start = time.perf_counter()
+        sim = Simulator(config, units, geometry)
+        sim.step_frame()
+        ti.sync()
+        row["engine_build_and_first_frame_s"] = round(time.perf_counter() - start, 3)
+        mj = None
+        if bench_mujoco.available():
+            if "box_half" in case:
+                mj = bench_mujoco.MujocoBox(config, sim.model.mass, box_half=case["box_half"])
+            else:
+                mj = bench_mujoco.MujocoBox(config, sim.model.mass, geometry.vertices, geometry.faces)
+        _BUILT[key] = (baseline, sim, mj)
+    baseline, sim, mj = _BUILT[key]
+    baseline.config = config
+    sim.reconfigure(**{k: getattr(config, k) for k in ("position", "initial_velocity", "initial_angular_velocity")})
+    if mj is not None:
+        mj.config = config
+    return baseline, sim, mj
+
+
+def run_case(case, units, ti) -> dict:
     config = config_for(case)
-    geometry = body_geometry(config)
     substeps, sync = config.substeps, ti.sync
-    row = dict(body=case["name"], particles=len(geometry.particles), frames=case["frames"],
-               repeats=case["repeats"], substeps_per_frame=substeps)
-    r0 = geometry.particles - geometry.particles.mean(axis=0)
-    baseline = bench_handout.HandoutLoop(r0, config.particle_mass, units, config)
+    row = dict(body=case["name"], frames=case["frames"], repeats=case["repeats"], substeps_per_frame=substeps)
+    baseline, sim, mj = implementations(case, config, units, ti, row)
+    row["particles"] = sim.model.num_particles
     row["baseline_us"] = time_frames(baseline, case["frames"], case["repeats"], substeps, sync)
     row["baseline_final_x"] = baseline.position().round(4).tolist()
-    start = time.perf_counter()
-    sim = Simulator(config, units, geometry)
-    sim.step_frame()
-    sync()
-    row["engine_build_and_first_frame_s"] = round(time.perf_counter() - start, 3)
     row["engine_path"] = "parallel" if sim.integrator.uses_parallel else "serial"
     engine = EngineRunner(sim)
     row["engine_us"] = time_frames(engine, case["frames"], case["repeats"], substeps, sync)
     row["engine_final_x"] = engine.position().round(4).tolist()
-    if bench_mujoco.available():
-        mass = sim.model.mass
-        if "box_half" in case:
-            mj = bench_mujoco.MujocoBox(config, mass, box_half=case["box_half"])
-        else:
-            mj = bench_mujoco.MujocoBox(config, mass, geometry.vertices, geometry.faces)
+    if mj is not None:
         row["mujoco_us"] = time_frames(mj, case["frames"], case["repeats"], substeps, lambda: None)
         row["mujoco_final_x"] = mj.position().round(4).tolist()
+    row["load_average"] = round(os.getloadavg()[0], 2)
     print(bench_table.row_line(row), flush=True)
     return row
 
@@ -136,7 +155,7 @@ def crossover(units, ti, quick: bool) -> list[dict]:
     """Serial vs parallel path per substep for volume-sampled cubes of growing particle count."""
     from rigid.simulator import Simulator
 
-    grids = (12, 20) if quick else (16, 20, 25, 32, 40, 50)
+    grids = (20,) if quick else (16, 25, 40, 63, 80, 100)
     on_floor = (0.0, -1.0 + CUBE_HALF - 0.005, 0.0)
     out = []
     for grid in grids:
@@ -145,10 +164,15 @@ def crossover(units, ti, quick: bool) -> list[dict]:
         entry = dict(particles=sim.model.num_particles)
         for where, position in (("flight", SCENARIO["position"]), ("floor", on_floor)):
             sim.reconfigure(position=position)
-            for path in ("serial", "parallel"):
-                sim.integrator.parallel = path == "parallel"
-                entry[f"{path}_{where}_us"] = time_frames(EngineRunner(sim), 2 if quick else 10,
-                                                         1 if quick else 3, sim.substeps, ti.sync)
+            times = {"serial": [], "parallel": []}
+            for _ in range(1 if quick else 5):  # alternate the paths, so that both see the same load
+                for path in times:
+                    sim.integrator.parallel = path == "parallel"
+                    times[path].append(time_frames(EngineRunner(sim), 2 if quick else 6, 1, sim.substeps, ti.sync))
+            for path, values in times.items():
+                entry[f"{path}_{where}_us"] = statistics.median(values)
+        sim.integrator.parallel = None
+        entry["load_average"] = round(os.getloadavg()[0], 2)
         out.append(entry)
         print("crossover", json.dumps(entry), flush=True)
     return out

@@ -1,12 +1,15 @@
 """The benchmark's baseline: the handout's structure, the engine's physics.
 
-Like the assignment's handout: one kernel launch per substep, driven by a
-Python loop over the frame's substeps; inside the kernel, top-level (so
-parallel) loops over the particles store every particle's position, velocity
-and force, then add them into the body's F and τ with atomics, then one thread
-updates the body. The physics is the engine's: the same 7 TODO units, the same
-contact (rigid.contact.box_force), explicit Euler. Only the structure differs,
-which is what the benchmark measures: launches, and per-substep particle stores.
+Like the assignment's handout (its ``substep`` kernel): one kernel launch per
+substep, driven by a Python loop over the frame's substeps; inside the kernel,
+top-level (so parallel) loops over the particles: forces on every particle
+(stored), F with atomics, τ with atomics, then one thread updates the body,
+then a last loop stores every particle's position and velocity for the next
+substep. The physics is the engine's: the same 7 TODO units, the same contact
+(rigid.contact.box_force), explicit Euler. Only the structure differs, which is
+what the benchmark measures: launches, tasks, per-substep particle stores.
+The handout also runs Taichi with ``debug=True``, which makes it several times
+slower again; the baseline here runs without it (one ti.init per process).
 
 Kernels live in this file because Taichi needs kernel source on disk.
 """
@@ -41,16 +44,21 @@ class HandoutLoop:
         k, kd, mu, floor, wall = (c.collision_stiffness, c.velocity_damping_stiffness,
                                   c.friction_stiffness, c.floor, c.wall)
 
-        @ti.kernel
-        def substep(dt: float):
-            for i in range(n):  # parallel: particles and their forces
+        @ti.func
+        def place_particles():
+            for i in range(n):  # parallel: positions and velocities for the next substep and the drawing
                 r = R[None] @ r0_f[i]
                 px[i] = x[None] + r
                 pv[i] = v[None] + omega[None].cross(r)
+
+        @ti.kernel
+        def substep(dt: float):
+            for i in range(n):  # parallel: force on every particle, from last substep's positions
                 fc, _e = box_force(px[i], pv[i], floor, wall, k, kd, mu)
                 pf[i] = u.gravity_force(mass, gravity) + fc
-            for i in range(n):  # parallel: atomic sums into F and τ
+            for i in range(n):  # parallel, atomic: total force
                 F[None] += u.total_force_term(pf[i])
+            for i in range(n):  # parallel, atomic: total torque
                 tau[None] += u.torque_term(px[i], x[None], R[None], r0_f[i], pf[i])
             for _ in range(1):  # one thread: explicit Euler on the body
                 x[None], P[None] = u.update_linear(x[None], P[None], F[None], M, dt)
@@ -60,9 +68,14 @@ class HandoutLoop:
                 v[None] = P[None] / M
                 F[None] = ti.Vector.zero(float, 3)
                 tau[None] = ti.Vector.zero(float, 3)
+            place_particles()
+
+        @ti.kernel
+        def place():
+            place_particles()
 
         self._fields = dict(x=x, v=v, P=P, L=L, omega=omega, q=q, R=R, inv0=inv0, inertia=inertia, M=M)
-        self._substep = substep
+        self._substep, self._place = substep, place
         self.dt, self.config = float(c.dt), c
         self.reset()
 
@@ -75,6 +88,7 @@ class HandoutLoop:
         f["R"][None] = np.eye(3).tolist()
         f["omega"][None] = angular_velocity
         f["L"][None] = (f["inertia"] @ np.asarray(angular_velocity)).tolist()
+        self._place()
 
     def step_frame(self, substeps: int):
         for _ in range(substeps):  # the handout's Python loop: one launch per substep
