@@ -54,8 +54,12 @@ def prepare(reference: Path, limits: Limits, cache_root: Path, log=print) -> Set
     settings = Settings(reference, folder / "expected.npz", folder / "taichi", limits=limits)
     if (folder / "ready").exists():
         return settings
-    cache_root.mkdir(parents=True, exist_ok=True)
-    with open(cache_root / ".lock", "w") as lock:
+    try:
+        cache_root.mkdir(parents=True, exist_ok=True)
+        lock = open(cache_root / ".lock", "w")
+    except OSError as err:
+        raise UserError(f"cache folder {cache_root} is not writable ({err.strerror}); pick one with --cache-dir")
+    with lock:
         fcntl.flock(lock, fcntl.LOCK_EX)
         if not (folder / "ready").exists():
             log(f"preparing the reference answers from {reference} (once per grader version) ...")
