@@ -114,3 +114,49 @@ def test_discover_files_folders_zips(tmp_path):
     assert any("notes.txt" in n for n in notes)
     with pytest.raises(UserError):
         discover([tmp_path / "missing"])
+
+
+class _Events:
+    def __init__(self):
+        self.log = []
+
+    def emit(self, **fields):
+        self.log.append(fields)
+
+
+class _Expected:
+    def trajectory(self, form):
+        return np.zeros((3, 10))
+
+
+def test_trajectory_blame_halves_to_the_straying_unit_and_spares_an_engine_bug(monkeypatch):
+    from types import SimpleNamespace
+
+    from rigid.grading import checks, trajectory
+    from rigid.units import UNIT_NAMES
+
+    reference = SimpleNamespace(**{n: f"ref.{n}" for n in UNIT_NAMES})
+    module = SimpleNamespace(**{n: f"sub.{n}" for n in UNIT_NAMES})
+    runs = []
+
+    def fake_run(units):  # TODO 3 of the submission makes the body stray; nothing else does
+        runs.append(units)
+        return np.ones((3, 10)) if units.total_force_term == "sub.total_force_term" else np.zeros((3, 10))
+
+    monkeypatch.setattr(trajectory, "run", fake_run)
+    events = _Events()
+    results = {k: {"passed": True} for k in range(1, 8)}
+    checks.check_trajectories(events, module, reference, results, _Expected())
+    verdicts = {k: e["passed"] for e in events.log if e.get("event") for k in e["todos"]}
+    assert verdicts == {1: True, 2: True, 3: False, 4: True, 5: True, 6: True, 7: True}
+    assert len(runs) == 7  # the joint run, then halves: [1,2,3] [4..7], [1] [2,3], [2] [3]
+
+    def broken(units):
+        raise RuntimeError("engine bug")
+
+    monkeypatch.setattr(trajectory, "run", broken)
+    events = _Events()
+    checks.check_trajectories(events, module, reference, {1: {"passed": True}, 2: {"passed": False}},
+                              _Expected())
+    (verdict,) = [e for e in events.log if e.get("event")]
+    assert not verdict["passed"] and "not graded" in verdict["message"] and "engine" in verdict["message"]
