@@ -1,13 +1,14 @@
 """Particles grouped into small, spatially compact blocks, for the force loop.
 
 The force loop visits a body's particles block by block. Each block carries a
-bounding sphere (centre c and radius ρ in the body frame); once per substep a
-block whose sphere, moved to the world by (x, R), stays inside the box with a
-margin cannot have a particle behind any wall, so its particles feel gravity
-only and skip the five plane tests (the contact force there would be exactly
-zero). The block is also the unit of work and of summation of the parallel
-path: F and τ are summed per block in a fixed order, then over blocks in block
-order, so the result does not depend on how many threads ran the blocks.
+bounding box in the body frame (centre c, half-extents h); once per substep the
+box, moved to the world by (x, R), says which planes of the box a particle of
+the block may be behind, and the block's particles are tested against those
+planes only (wrench.py): the others' forces would be exactly zero there. A body
+in flight tests no plane at all. The block is also the unit of work and of
+summation of the parallel path: F and τ are summed per block in a fixed order,
+then over blocks in block order, so the result does not depend on how many
+threads ran the blocks.
 
 Blocks are cut from the body's particles sorted along a Morton (Z-order) curve
 of their body-frame positions, so consecutive particles are close in space: a
@@ -18,8 +19,8 @@ Fields (float is the run's precision), N particles, K blocks, B bodies:
 - ``r0``           [N] vec3  body-frame offsets from the centre of mass, block order (SoA)
 - ``block_start``, ``block_count`` [K] i32  block k holds r0[start : start + count]
 - ``block_body``   [K] i32   the body that owns block k
-- ``block_centre`` [K] vec3  bounding-sphere centre, body frame
-- ``block_radius`` [K] float bounding-sphere radius (rounded up)
+- ``block_centre`` [K] vec3  centre of the block's bounding box, body frame
+- ``block_half``   [K] vec3  half-extents of that box (rounded up), body frame
 - ``body_block_start``, ``body_block_count`` [B] i32  body b's blocks, consecutive
 """
 from __future__ import annotations
@@ -57,7 +58,7 @@ def morton_order(points: np.ndarray) -> np.ndarray:
 
 def block_layout(r0: np.ndarray, body_start, body_count, block_size: int) -> dict:
     """Host-side layout (float64 numpy) of the blocks of every body; see the module docstring."""
-    order, starts, counts, owners, centres, radii = [], [], [], [], [], []
+    order, starts, counts, owners, centres, halves = [], [], [], [], [], []
     body_block_start, body_block_count = [], []
     for b, (start, count) in enumerate(zip(body_start, body_count)):
         body_order = start + morton_order(r0[start:start + count])
@@ -65,16 +66,16 @@ def block_layout(r0: np.ndarray, body_start, body_count, block_size: int) -> dic
         for k0 in range(0, count, block_size):
             members = body_order[k0:k0 + block_size]
             points = r0[members]
-            centre = 0.5 * (points.min(axis=0) + points.max(axis=0))
+            lo, hi = points.min(axis=0), points.max(axis=0)
             starts.append(start + k0)
             counts.append(len(members))
             owners.append(b)
-            centres.append(centre)
-            radii.append(np.sqrt(((points - centre) ** 2).sum(axis=1).max()))
+            centres.append(0.5 * (lo + hi))
+            halves.append(np.maximum(hi - 0.5 * (lo + hi), 0.5 * (lo + hi) - lo))
         body_block_count.append(len(starts) - body_block_start[-1])
         order.append(body_order)
     return dict(order=np.concatenate(order), block_start=np.array(starts), block_count=np.array(counts),
-                block_body=np.array(owners), block_centre=np.array(centres), block_radius=np.array(radii),
+                block_body=np.array(owners), block_centre=np.array(centres), block_half=np.array(halves),
                 body_block_start=np.array(body_block_start), body_block_count=np.array(body_block_count))
 
 
@@ -96,12 +97,12 @@ class ParticleBlocks:
         self.block_count = ti.field(ti.i32, shape=k)
         self.block_body = ti.field(ti.i32, shape=k)
         self.block_centre = ti.Vector.field(3, float, shape=k)
-        self.block_radius = ti.field(float, shape=k)
+        self.block_half = ti.Vector.field(3, float, shape=k)
         self.body_block_start = ti.field(ti.i32, shape=len(body_start))
         self.body_block_count = ti.field(ti.i32, shape=len(body_start))
         self.r0.from_numpy(r0[self.order].astype(fp))
         for name in ("block_start", "block_count", "block_body", "body_block_start", "body_block_count"):
             getattr(self, name).from_numpy(layout[name].astype(np.int32))
         self.block_centre.from_numpy(layout["block_centre"].astype(fp))
-        # Round the radius up so that the float copy never under-covers its block.
-        self.block_radius.from_numpy(np.nextafter(layout["block_radius"].astype(fp), fp(np.inf)))
+        # Round the half-extents up so that the float copy never under-covers its block.
+        self.block_half.from_numpy(np.nextafter(layout["block_half"].astype(fp), fp(np.inf)))

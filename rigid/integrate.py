@@ -75,7 +75,7 @@ class Integrator:
         scheme = self.scheme
 
         # Forces per particle through the TODO units, summed block by block (wrench.py).
-        particle_force, _gain, _block_wrench, body_wrench = make_wrench(model, prm, self.blocks, u)
+        particle_force, _reach, _block_wrench, body_wrench = make_wrench(model, prm, self.blocks, u)
 
         @ti.func
         def store(b, x, q, P, L):
@@ -192,7 +192,7 @@ class Integrator:
             write_particles_serial()
 
         self.advance_serial = advance_serial
-        self._parallel_parts = (_block_wrench, _gain, update, write_particles_parallel)
+        self._parallel_parts = (_block_wrench, update, write_particles_parallel)
         self.init_state = init_state
         self.apply_impulse = apply_impulse
         self.contact_energy = contact_energy

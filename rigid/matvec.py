@@ -16,8 +16,3 @@ def matvec(M, a):
                       M[1, 0] * a[0] + M[1, 1] * a[1] + M[1, 2] * a[2],
                       M[2, 0] * a[0] + M[2, 1] * a[1] + M[2, 2] * a[2]])
 
-
-@ti.func
-def column_dot(M, i, j):
-    """(Mᵀ M)[i, j]: the dot product of columns i and j of a 3x3 matrix."""
-    return M[0, i] * M[0, j] + M[1, i] * M[1, j] + M[2, i] * M[2, j]

@@ -17,16 +17,18 @@ with a runtime number of substeps. Instead a frame of n substeps is a Taichi
 compute graph (``ti.graph``) that dispatches the substep kernel n times and
 then the particle write: one call from Python per frame, no Python work per
 substep, the kernel compiled once (a ``ti.static`` unroll would compile n
-copies), one graph cached per n. What a parallel task costs to dispatch
-(~8 µs here on 2 CPU cores) is why small bodies take the serial path.
+copies), one graph cached per n. Waking the worker threads for each
+substep's parallel task costs 15-70 µs on this project's 2-vCPU machine, which
+is why all but the largest bodies take the serial path
+(integrate.parallel_threshold). rk4 has no parallel path: its four wrench
+evaluations per substep would need four such tasks.
 """
 import taichi as ti
 
 
 class ParallelFrame:
-    def __init__(self, model, state, params, blocks, block_wrench, rotation_gain, update,
-                 write_particles):
-        """``block_wrench(k, b, x, R, v, ω, gain)``, ``rotation_gain(R)``: wrench.py;
+    def __init__(self, model, state, params, blocks, block_wrench, update, write_particles):
+        """``block_wrench(k, b, x, R, v, ω)``: wrench.py;
         ``update(b, dt, F, τ)``: the scheme's update; ``write_particles()``: stores the particle
         and drawn-vertex positions (its loops run in parallel at a kernel's top level)."""
         s, prm, bl = state, params, blocks
@@ -38,9 +40,7 @@ class ParallelFrame:
         def substep():
             for k in range(num_blocks):  # parallel: one block per iteration
                 b = bl.block_body[k]
-                R = s.R[b]
-                F, tau = block_wrench(k, b, s.x[b], R, s.P[b] / model.body_mass[b], s.omega[b],
-                                      rotation_gain(R))
+                F, tau = block_wrench(k, b, s.x[b], s.R[b], s.P[b] / model.body_mass[b], s.omega[b])
                 partial_F[k] = F
                 partial_tau[k] = tau
             ti.loop_config(serialize=True)

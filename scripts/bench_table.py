@@ -78,7 +78,10 @@ def markdown(result: dict) -> str:
              f"{result['rows'][0]['frames']} frames; the cube is volume-sampled (rigid.sampling).",
              "Handout loop: one kernel launch per substep from Python, parallel particle loops, atomic sums "
              "(scripts/bench_handout.py). MuJoCo: the same box and Δt, Euler, the mesh's convex hull "
-             "(a box geom for the cube), mj_step(nstep=16) per frame."]
+             "(a box geom for the cube), mj_step(nstep=16) per frame.",
+             "The machine is shared (other jobs ran during the measurement; load averages "
+             f"{sorted({r.get('load_average') for r in result['rows']} - {None})} at the rows' ends), "
+             "so timings vary by up to 2x between runs; the launch-bound handout loop varies most."]
     if result.get("startup"):
         st = result["startup"]
         notes.append(f"Start-up, `python rigid_body_dynamic.py --headless --frames 1` (command to first frame "
