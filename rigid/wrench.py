@@ -7,9 +7,11 @@ and substep, the block says which planes its particles may
 be behind (its bounding box, moved by (x, R)), and one of three loops runs:
   "none"  (clear of all five planes)     gravity only
   "floor" (near the floor, no wall)      gravity + the floor's force
-  "box"   (near a wall)                  gravity + box_force, as particle_force
+  "near"  (near one x or one z wall)     gravity + floor, one x and one z plane
+  "box"   (near two opposite walls)      gravity + box_force, as particle_force
 The planes left out would give exactly zero force there, and f + 0 = f, so the
-sums are those of the plain loop. LLVM vectorises all three loops, if-converting
+sums are those of the plain loop (box_force adds its five planes in order; the
+"near" loop adds the same non-zero terms in the same order). LLVM vectorises all three loops, if-converting
 the plane tests (a vectorised plane costs the same whether or not a particle
 touches it), so leaving planes out is where the time goes: per particle, ~0.6 ns
 in flight, ~2 ns on the floor, ~5 ns by a wall (one core, float32).
@@ -26,10 +28,11 @@ any thread then in block order (parallel.py): the same order either way.
 """
 import taichi as ti
 
-from .contact import box_force, floor_force
+from .contact import box_force, floor_force, plane_force
 from .matvec import matvec
 
-CLEAR_MARGIN = 1e-5  # relative padding of the clear test (see the module docstring)
+CLEAR_MARGIN = 1e-5  # relative padding of the reach test (see the module docstring)
+FAR = 1e30  # offset of a plane that is not near: behind it lie only coordinates below -1e30 (finite in f32)
 
 
 def make_wrench(model, params, blocks, units):
@@ -51,8 +54,9 @@ def make_wrench(model, params, blocks, units):
 
     @ti.func
     def planes_in_reach(k, x, R):
-        """(floor, wall): whether a particle of block k may be behind the floor, behind a wall."""
-        floor_near, wall_near = False, False
+        """Whether a particle of block k may be behind each plane: a vector of 0/1 flags for
+        (floor y = floor, wall x = -wall, wall x = +wall, wall z = -wall, wall z = +wall)."""
+        near = ti.Vector([0, 0, 0, 0, 0])
         if prm.walls[None]:
             floor, wall = prm.floor[None], prm.wall[None]
             centre, half = bl.block_centre[k], bl.block_half[k]
@@ -62,23 +66,33 @@ def make_wrench(model, params, blocks, units):
             size = ti.abs(x).max() + matvec(ti.abs(R), ti.abs(centre) + half).max() + ti.abs(floor) + ti.abs(wall)
             reach += CLEAR_MARGIN * size
             # Written so that a NaN makes a plane near: comparisons with NaN are false.
-            floor_near = not c[1] - reach[1] > floor
-            wall_near = not (c[0] + reach[0] < wall and c[0] - reach[0] > -wall
-                             and c[2] + reach[2] < wall and c[2] - reach[2] > -wall)
-        return floor_near, wall_near
+            near[0] = int(not c[1] - reach[1] > floor)
+            near[1] = int(not c[0] - reach[0] > -wall)
+            near[2] = int(not c[0] + reach[0] < wall)
+            near[3] = int(not c[2] - reach[2] > -wall)
+            near[4] = int(not c[2] + reach[2] < wall)
+        return near
 
     def particle_loop(planes: str):
         """A ti.func summing F, τ over particles [start, end) with contact from ``planes``:
-        "none" (gravity only), "floor", or "box" (all five planes, as particle_force)."""
+        "none" (gravity only), "floor", "near" (floor, one x wall, one z wall, each either the
+        real plane or one no particle is behind), or "box" (all five, as particle_force)."""
 
         @ti.func
-        def loop(start, end, b, x, R, v, omega):
+        def loop(start, end, b, x, R, v, omega, near):
             F = ti.Vector.zero(float, 3)
             tau = ti.Vector.zero(float, 3)
             # Loaded once, so that LLVM vectorises the loop (the values are particle_force's).
             m, g = model.particle_mass[b], prm.gravity[None]
             floor, wall = prm.floor[None], prm.wall[None]
             k, kd, mu = prm.collision_stiffness[None], prm.velocity_damping_stiffness[None], prm.friction_stiffness[None]
+            # "near": planes chosen per block. A plane that is not near moves to offset -FAR, where
+            # it pushes no particle (every particle is in front of the real one), giving exactly 0.
+            offset_floor = floor if near[0] else -FAR
+            normal_x = ti.Vector([1.0 if near[1] else -1.0, 0.0, 0.0])
+            offset_x = -wall if near[1] or near[2] else -FAR
+            normal_z = ti.Vector([0.0, 0.0, 1.0 if near[3] else -1.0])
+            offset_z = -wall if near[3] or near[4] else -FAR
             for j in range(start, end):
                 r0 = bl.r0[j]
                 r = matvec(R, r0)
@@ -87,6 +101,12 @@ def make_wrench(model, params, blocks, units):
                 if ti.static(planes == "floor"):
                     fc, _e = floor_force(p, v + omega.cross(r), floor, k, kd, mu)
                     f += fc
+                elif ti.static(planes == "near"):
+                    pv = v + omega.cross(r)
+                    f0, _e0 = plane_force(p, pv, ti.Vector([0.0, 1.0, 0.0]), offset_floor, k, kd, mu)
+                    fx, _ex = plane_force(p, pv, normal_x, offset_x, k, kd, mu)
+                    fz, _ez = plane_force(p, pv, normal_z, offset_z, k, kd, mu)
+                    f += f0 + fx + fz  # box_force's order, less terms that are exactly zero
                 elif ti.static(planes == "box"):
                     fc, _e = box_force(p, v + omega.cross(r), floor, wall, k, kd, mu)
                     f += fc
@@ -96,22 +116,25 @@ def make_wrench(model, params, blocks, units):
 
         return loop
 
-    free_loop, floor_loop, box_loop = particle_loop("none"), particle_loop("floor"), particle_loop("box")
+    free_loop, floor_loop = particle_loop("none"), particle_loop("floor")
+    near_loop, box_loop = particle_loop("near"), particle_loop("box")
 
     @ti.func
     def block_wrench(k, b, x, R, v, omega):
         """F and τ (about x) on body b from the particles of its block k, summed in block order."""
         start = bl.block_start[k]
         end = start + bl.block_count[k]
-        floor_near, wall_near = planes_in_reach(k, x, R)
+        near = planes_in_reach(k, x, R)
         F = ti.Vector.zero(float, 3)
         tau = ti.Vector.zero(float, 3)
-        if wall_near:
-            F, tau = box_loop(start, end, b, x, R, v, omega)
-        elif floor_near:  # the four walls' forces would be exactly zero
-            F, tau = floor_loop(start, end, b, x, R, v, omega)
+        if (near[1] and near[2]) or (near[3] and near[4]):  # a block as wide as the box
+            F, tau = box_loop(start, end, b, x, R, v, omega, near)
+        elif near[1] or near[2] or near[3] or near[4]:
+            F, tau = near_loop(start, end, b, x, R, v, omega, near)
+        elif near[0]:  # the four walls' forces would be exactly zero
+            F, tau = floor_loop(start, end, b, x, R, v, omega, near)
         else:  # all five would be
-            F, tau = free_loop(start, end, b, x, R, v, omega)
+            F, tau = free_loop(start, end, b, x, R, v, omega, near)
         return F, tau
 
     @ti.func
