@@ -35,13 +35,14 @@ from .matvec import matvec
 from .rotation import quaternion_to_matrix
 from .wrench import make_wrench
 
-# From this many particles in the largest body up, a frame takes the parallel path on the CPU.
-# Measured on this project's 2-vCPU machine (scripts/bench.py, "crossover"): waking the worker
-# threads for each substep's parallel task costs 15-70 µs, and the particle loop of a body in
-# flight is memory-bound (~0.7 ns per particle on one core), so a second core repays the
-# wake-up only near a million particles, and mostly where contacts make the loop compute-bound.
-# Machines with more cores gain earlier: set RIGID_PARALLEL_MIN_PARTICLES to tune.
-PARALLEL_MIN_PARTICLES = 1 << 19  # 524,288
+# The parallel path pays only for very large bodies on a CPU. Measured on this project's 2-vCPU
+# machine (scripts/bench.py, "crossover"): waking the worker threads for each substep's parallel
+# task costs 15-70 µs, and the particle loop of a body in flight is memory-bound (~0.7 ns per
+# particle on one core), so two threads only break even near a million particles (faster in
+# contact, slower in flight, by 10-30% either way). The threshold is that break-even for two
+# threads, assumed to fall as 1/threads with more (not measured: no such machine here).
+# RIGID_PARALLEL_MIN_PARTICLES overrides it.
+PARALLEL_MIN_PARTICLES_TWO_THREADS = 1 << 20  # 1,048,576
 # On a GPU the serial path runs on one GPU thread, so the parallel path is taken much earlier
 # (a guess: no GPU was available to measure it).
 PARALLEL_MIN_PARTICLES_GPU = 4096
@@ -53,8 +54,11 @@ def parallel_threshold() -> int:
     override = os.environ.get("RIGID_PARALLEL_MIN_PARTICLES")
     if override:
         return int(override)
-    on_cpu = ti.lang.impl.current_cfg().arch in (ti.x64, ti.arm64)
-    return PARALLEL_MIN_PARTICLES if on_cpu else PARALLEL_MIN_PARTICLES_GPU
+    cfg = ti.lang.impl.current_cfg()
+    if cfg.arch not in (ti.x64, ti.arm64):
+        return PARALLEL_MIN_PARTICLES_GPU
+    threads = cfg.cpu_max_num_threads
+    return PARALLEL_MIN_PARTICLES_TWO_THREADS * 2 // threads if threads >= 2 else 1 << 62
 
 
 class Integrator:
