@@ -86,7 +86,8 @@ class ParticleBlocks:
         r0 = model.r0_np
         body_start = model.body_start.to_numpy()
         body_count = model.body_count.to_numpy()
-        self.block_size = block_size or block_size_for(int(body_count.max()))
+        self.largest_body = int(body_count.max())  # particles
+        self.block_size = block_size or block_size_for(self.largest_body)
         layout = block_layout(r0, body_start, body_count, self.block_size)
         self.num_blocks = k = len(layout["block_start"])
         self.order = layout["order"]  # r0 here = model r0[order]

@@ -72,6 +72,19 @@ def test_blocked_sum_with_culling_matches_a_plain_particle_loop(cube, units):
     np.testing.assert_allclose(engine[7:], reference[7:], rtol=0, atol=1e-4 * np.abs(reference[7:]).max())
 
 
+def test_without_walls_a_big_body_falls_through_the_floor(cube):
+    """walls off: no block runs a contact loop, even one deep below the floor (P = M (v0 + g t))."""
+    cube.reconfigure(walls=False, position=(0.0, -1.2, 0.0))
+    try:
+        for parallel in (False, True):
+            state = _run(cube, parallel)
+            t = FRAMES * cube.substeps * cube.config.dt
+            expect = cube.model.mass * (np.array(THROW["initial_velocity"]) + np.array(cube.config.gravity) * t)
+            np.testing.assert_allclose(state[7:10], expect, rtol=1e-5, atol=1e-5 * np.abs(expect).max())
+    finally:
+        cube.reconfigure(walls=True, position=THROW["position"])
+
+
 def test_blocks_cover_every_particle_once_inside_their_boxes():
     from rigid.blocks import block_layout
 
