@@ -1,7 +1,7 @@
 """Speed per substep: the handout's loop, this engine, MuJoCo; start-up; memory; the crossover.
 
-    python scripts/bench.py              # the full table (~2 minutes on 2 cores)
-    python scripts/bench.py --quick      # a smoke test: small runs, no subprocesses (~10 s)
+    python scripts/bench.py              # the full table (~1-2 minutes on 2 cores)
+    python scripts/bench.py --quick      # a smoke test: small runs, no subprocesses (~12 s)
 
 In one process, one after another, for each body: the handout-style loop
 (scripts/bench_handout.py: one launch per substep from Python, parallel loops,
@@ -15,7 +15,7 @@ Times: median over repeats of (wall time of whole frames) / substeps. Also:
 start-up from command to first frame (python rigid_body_dynamic.py --headless
 --frames 1) with an empty and a warm kernel cache, peak memory of a process
 running the 1M body, and serial vs parallel path by particle count (the
-crossover behind rigid.integrate.PARALLEL_MIN_PARTICLES).
+crossover behind rigid.integrate.parallel_threshold).
 Writes report/bench.json and report/bench.md (--out DIR to change). Speeds are
 reported, never asserted: the machine is shared and timings are noisy.
 """
