@@ -108,7 +108,7 @@ def render_stills(folder: Path, frames=(10, 60, 150)) -> list[Path]:
 
     video = folder / "thrown_sphere.mp4"
     proc = subprocess.run([sys.executable, "rigid_body_dynamic.py", "--scene", "assets/scenes/thrown_sphere.toml",
-                           "--record", str(video), "--frames", str(max(frames)), "--resolution", "640", "360"],
+                           "--record", str(video), "--frames", str(max(frames) + 1), "--resolution", "640", "360"],
                           cwd=ROOT, capture_output=True, text=True)
     if proc.returncode != 0:
         print(f"note: no stills ({proc.stderr.strip().splitlines()[-1:]})", file=sys.stderr)

@@ -1,0 +1,39 @@
+"""scripts/make_report.py: the report regenerates identically and its PDF holds the figures."""
+import shutil
+import subprocess
+import sys
+
+from conftest import ROOT
+
+
+def test_report_regenerates_identically_with_figures(tmp_path):
+    outs = [tmp_path / "a", tmp_path / "b"]
+    for out in outs:  # reuse the committed validation and benchmark (slow scripts of their own)
+        out.mkdir()
+        for name in ("validation.json", "bench.json"):
+            shutil.copy(ROOT / "report" / name, out / name)
+    runs = [subprocess.Popen([sys.executable, "scripts/make_report.py", "--quick", "--out", str(out)],
+                             cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+            for out in outs]  # both at once: two cores
+    for proc in runs:
+        log, _ = proc.communicate(timeout=300)
+        assert proc.returncode == 0, log
+
+    a, b = outs
+    md = (a / "report.md").read_text().splitlines()
+    assert md[0].startswith("Name:") and md[2].startswith("UID:")  # the handout's two first lines
+    figures = sorted(p.name for p in (a / "figures").glob("*.png"))
+    for name in ("energy_assignment.png", "energy_thrown_sphere.png", "energy_tumbling_t_handle.png",
+                 "trajectory_thrown_sphere.png", "flip.png", "convergence.png"):
+        assert name in figures
+        assert f"figures/{name}" in (a / "report.md").read_text()
+    for name in figures:  # fixed seeds, deterministic simulation and drawing: same bytes
+        assert (a / "figures" / name).read_bytes() == (b / "figures" / name).read_bytes(), name
+    assert (a / "report.pdf").read_bytes() == (b / "report.pdf").read_bytes()
+
+    from pypdf import PdfReader
+
+    pdf = PdfReader(a / "report.pdf")
+    images = sum(len(page.images) for page in pdf.pages)
+    assert len(pdf.pages) >= 3 and images == len(figures)
+    assert "UID" in pdf.pages[0].extract_text()
