@@ -30,32 +30,13 @@ def units(ti_cpu):
     return load_units(SOLUTION)
 
 
-_SIMS = {}
-
-
 @pytest.fixture(scope="session")
 def sim_cache(units):
-    """sim_cache(**config) -> a Simulator for that config, built once per process."""
-    from rigid.config import SimConfig
-    from rigid.simulator import Simulator
+    """sim_cache(**config) -> a Simulator for that config, built once per process, reset to
+    the config's initial state (runtime keys not given take SimConfig's defaults)."""
+    from rigid.experiments import SimulatorCache
 
-    def get(**config):
-        runtime = {k: v for k, v in config.items() if k in Simulator.RUNTIME_KEYS}
-        fixed = {k: v for k, v in config.items() if k not in Simulator.RUNTIME_KEYS}
-        key = tuple(sorted((k, repr(v)) for k, v in fixed.items()))
-        if key not in _SIMS:
-            _SIMS[key] = Simulator(SimConfig(**fixed).validate(), units)
-        return _SIMS[key].reconfigure(**{**_runtime_defaults(), **runtime})
-
-    return get
-
-
-def _runtime_defaults():
-    from rigid.config import SimConfig
-    from rigid.simulator import Simulator
-
-    d = SimConfig()
-    return {k: getattr(d, k) for k in Simulator.RUNTIME_KEYS}
+    return SimulatorCache(units, fp64=False)
 
 
 def run_cli(*args, timeout=120, cwd=ROOT):
