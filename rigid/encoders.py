@@ -33,7 +33,23 @@ def open_writer(path, size: tuple[int, int], suffix: str | None = None):
     raise UserError(f"output {path}: use a file name ending in .mp4 or .gif")
 
 
-class Mp4Writer:
+class _StreamWriter:
+    """What both writers share: frame numbering, encoding and muxing, flushing on close."""
+
+    def _encode(self, frame) -> None:
+        frame.pts = self.frames
+        frame.time_base = Fraction(1, self.fps)
+        for packet in self.stream.encode(frame):
+            self.container.mux(packet)
+        self.frames += 1
+
+    def close(self) -> None:
+        for packet in self.stream.encode():  # flush the frames the encoder still holds
+            self.container.mux(packet)
+        self.container.close()
+
+
+class Mp4Writer(_StreamWriter):
     codec_name = "H.264"
 
     def __init__(self, path, size: tuple[int, int], fps: int = FPS):
@@ -51,20 +67,10 @@ class Mp4Writer:
         self.stream.options = dict(MP4_OPTIONS)
 
     def write(self, pixels: np.ndarray) -> None:
-        frame = av.VideoFrame.from_ndarray(pixels, format="rgba" if pixels.shape[2] == 4 else "rgb24")
-        frame.pts = self.frames
-        frame.time_base = Fraction(1, self.fps)
-        for packet in self.stream.encode(frame):
-            self.container.mux(packet)
-        self.frames += 1
-
-    def close(self) -> None:
-        for packet in self.stream.encode():  # flush the frames x264 still holds
-            self.container.mux(packet)
-        self.container.close()
+        self._encode(av.VideoFrame.from_ndarray(pixels, format="rgba" if pixels.shape[2] == 4 else "rgb24"))
 
 
-class GifWriter:
+class GifWriter(_StreamWriter):
     """Every second frame, 30 fps; one 255-colour palette made from the first frame (no flicker)."""
 
     codec_name = "GIF"
@@ -95,17 +101,7 @@ class GifWriter:
             # PyAV takes the palette as (256, 4) ARGB bytes.
             self.palette_argb = np.concatenate([np.full((256, 1), 255, np.uint8), rgb_palette], axis=1)
         indices = np.asarray(image.quantize(palette=self.palette_image, dither=Image.Dither.NONE))
-        frame = av.VideoFrame.from_ndarray((np.ascontiguousarray(indices), self.palette_argb), format="pal8")
-        frame.pts = self.frames
-        frame.time_base = Fraction(1, self.fps)
-        for packet in self.stream.encode(frame):
-            self.container.mux(packet)
-        self.frames += 1
-
-    def close(self) -> None:
-        for packet in self.stream.encode():
-            self.container.mux(packet)
-        self.container.close()
+        self._encode(av.VideoFrame.from_ndarray((np.ascontiguousarray(indices), self.palette_argb), format="pal8"))
 
 
 class BackgroundWriter:
