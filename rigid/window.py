@@ -70,15 +70,10 @@ class _WindowLoop:
             self.steps += 1
         changed = False
         while True:
-            actions = self._keys()
-            pressed = self._draw()
-            if actions.get("quit") or not self.window.running:
-                self.closed = True
+            actions, pressed, reset = self._poll()
+            if self.closed:
                 raise StopRun
-            if pressed.get("reset") or actions.get("reset"):
-                sim.reset()
-                self.panel.message = ""
-                changed = True
+            changed |= reset
             if pressed.get("kick") or actions.get("kick"):
                 self.panel.kick()
                 changed = True
@@ -93,15 +88,27 @@ class _WindowLoop:
         self.panel.message = message[:160]
         self.panel.paused = True
         while True:
-            actions = self._keys()
-            pressed = self._draw()
-            if actions.get("quit") or not self.window.running:
-                self.closed = True
+            _actions, _pressed, reset = self._poll()
+            if self.closed:
                 return False
-            if pressed.get("reset") or actions.get("reset"):
-                self.sim.reset()
-                self.panel.message = ""
+            if reset:
                 return True
+
+    def _poll(self):
+        """Draw once and read the input: (key actions, panel presses, reset done).
+
+        Sets ``closed`` on esc or a closed window (then nothing else is acted on); a reset
+        from the key or the button rewinds the simulation and clears the panel's message.
+        """
+        actions, pressed = self._keys(), self._draw()
+        if actions.get("quit") or not self.window.running:
+            self.closed = True
+            return actions, pressed, False
+        reset = bool(pressed.get("reset") or actions.get("reset"))
+        if reset:
+            self.sim.reset()
+            self.panel.message = ""
+        return actions, pressed, reset
 
     def _keys(self) -> dict:
         actions = {}
