@@ -19,7 +19,7 @@ Useful Taichi calls: a.dot(b) (aᵀb), a.outer_product(b) (a bᵀ), a.cross(b)
 (or ti.math.cross(a, b)), M @ v, M.transpose(), v.norm(),
 ti.Matrix.identity(float, 3), and the quaternion helpers given below.
 """
-from rigid.rotation import quaternion_multiplication, quaternion_to_matrix  # noqa: F401 (given helpers)
+from rigid.engine.rotation import quaternion_multiplication, quaternion_to_matrix  # noqa: F401 (given helpers)
 
 import taichi as ti  # after rigid, which sets Taichi's environment (no version check, no banner)
 

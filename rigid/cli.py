@@ -96,7 +96,7 @@ def main(argv=None, units=None) -> int:
 
 
 def _run(args, units) -> int:
-    from .atomic import check_output_path
+    from .run.atomic import check_output_path
 
     config = config_from_args(args)
     if args.export:
@@ -105,29 +105,29 @@ def _run(args, units) -> int:
         check_output_path(args.record, (".mp4", ".gif"))
     if args.screenshot:
         check_output_path(args.screenshot, (".png",))
-    from .mesh import body_geometry
+    from .bodies.mesh import body_geometry
 
     geometry = body_geometry(config)  # every mesh error before the slow Taichi start-up
     if units is None:
-        from .units import load_units
+        from .engine.units import load_units
         units = load_units(Path(__file__).resolve().parent.parent / "rigid_body_dynamic.py")
 
     from .runtime import init_taichi
-    from .simulator import Simulator
+    from .engine.simulator import Simulator
 
     backend = init_taichi(config.arch, config.fp64)
     sim = Simulator(config, units, geometry)
     if args.record:
-        from .video import record
+        from .view.video import record
         result = record(sim, args.record, config.frames or HEADLESS_FRAMES, config.resolution,
                         export_path=args.export, screenshot=args.screenshot)
     elif args.headless:
-        from .runner import run_frames
+        from .run.runner import run_frames
         print(f"simulating {config.frames} frames (Ctrl-C stops and keeps what is done)",
               file=sys.stderr, flush=True)
         result = run_frames(sim, config.frames, export_path=args.export)
     else:
-        from .window import run_window
+        from .view.window import run_window
         result = run_window(sim, frames=config.frames, export_path=args.export, screenshot=args.screenshot)
     _summary(sim, result, backend)
     return result.exit_code

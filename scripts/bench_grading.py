@@ -1,76 +1,10 @@
-"""Measure the grader: preparation, seconds per submission, batch throughput.
-
-    python scripts/bench_grading.py [--copies 8]
-
-Grades, in a fresh cache folder (so the once-per-version preparation is timed
-too): the solution, the handout, a correct submission written differently
-(its kernels compile cold), and one whose TODO 3 is right on the grader's
-single calls but wrong in a simulation (the slowest path: the trajectory run
-is split until the culprit is found). Then a batch of ``copies`` wrong
-submissions with --jobs 1 and --jobs 2. Prints the figures; asserts nothing.
-"""
-import argparse
-import json
-import os
-import subprocess
+"""Measure the grader: preparation, per-submission and batch times (the logic lives in rigid.bench.grading)."""
 import sys
-import tempfile
-import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from rigid.grading.handout import make_handout  # noqa: E402
-
-SOLUTION = (ROOT / "rigid_body_dynamic.py").read_text()
-VARIANTS = {
-    "solution": SOLUTION,
-    "handout": make_handout(SOLUTION),
-    "different_but_right": SOLUTION.replace(
-        "    new_position = position + dt * momentum / mass\n    new_momentum = momentum + dt * force\n",
-        "    new_momentum = force * dt + momentum\n    new_position = position + dt * new_momentum / mass\n"),
-    "wrong_only_in_simulation": SOLUTION.replace(
-        "    term = particle_force\n",
-        "    term = particle_force\n    if particle_force.norm() > 60.0:\n        term = 1.5 * particle_force\n"),
-}
-
-
-def grade(paths, cache, jobs, out):
-    start = time.monotonic()
-    proc = subprocess.run([sys.executable, str(ROOT / "scripts" / "grade.py"), *map(str, paths), "--jobs",
-                           str(jobs), "--cache-dir", str(cache), "--json", str(out)],
-                          capture_output=True, text=True)
-    if proc.returncode:
-        sys.exit(proc.stderr)
-    return time.monotonic() - start, json.loads(Path(out).read_text())
-
-
-def main():
-    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("--copies", type=int, default=8, help="wrong submissions in the throughput batch")
-    args = p.parse_args()
-    print(f"{os.cpu_count()} CPU cores; load average {os.getloadavg()[0]:.2f}")
-    with tempfile.TemporaryDirectory() as tmp:
-        tmp, cache = Path(tmp), Path(tmp) / "cache"
-        files = []
-        for name, text in VARIANTS.items():
-            (tmp / f"{name}.py").write_text(text)
-            files.append(tmp / f"{name}.py")
-        wall, _ = grade([files[1]], cache, 1, tmp / "a.json")
-        print(f"first run (prepares the reference, then grades the handout): {wall:.1f} s")
-        wall, results = grade(files, cache, 1, tmp / "b.json")
-        for r in results:
-            print(f"  {Path(r['submission']).stem:26s} {r['total']:>3g}/90  {r['seconds']:5.1f} s")
-        batch = tmp / "batch"
-        batch.mkdir()
-        for i in range(args.copies):
-            (batch / f"wrong_{i}.py").write_text(SOLUTION.replace("force = particle_mass * gravity",
-                                                                  f"force = {i + 2} * particle_mass * gravity"))
-        for jobs in (1, 2):
-            wall, _ = grade([batch], cache, jobs, tmp / "c.json")
-            print(f"batch of {args.copies} (--jobs {jobs}): {wall:.1f} s, {wall / args.copies:.2f} s per submission")
-
+from rigid.bench.grading import main  # noqa: E402
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

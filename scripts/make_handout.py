@@ -4,7 +4,7 @@
 
 The handout runs as it is (the body sits still) and holds no line of the
 solution's TODO code (checked before writing). Students keep the repository's
-rigid/ package beside it (the file imports rigid.rotation and rigid.cli).
+rigid/ package beside it (the file imports rigid.engine.rotation and rigid.cli).
 """
 import argparse
 import sys
@@ -13,7 +13,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from rigid.atomic import atomic_output, check_output_path  # noqa: E402
+from rigid.run.atomic import atomic_output, check_output_path  # noqa: E402
 from rigid.errors import UserError  # noqa: E402
 from rigid.grading.handout import make_handout, solution_lines  # noqa: E402
 

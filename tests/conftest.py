@@ -25,7 +25,7 @@ def ti_cpu():
 
 @pytest.fixture(scope="session")
 def units(ti_cpu):
-    from rigid.units import load_units
+    from rigid.engine.units import load_units
 
     return load_units(SOLUTION)
 
@@ -34,7 +34,7 @@ def units(ti_cpu):
 def sim_cache(units):
     """sim_cache(**config) -> a Simulator for that config, built once per process, reset to
     the config's initial state (runtime keys not given take SimConfig's defaults)."""
-    from rigid.experiments import SimulatorCache
+    from rigid.science.experiments import SimulatorCache
 
     return SimulatorCache(units, fp64=False)
 

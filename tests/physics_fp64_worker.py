@@ -2,7 +2,7 @@
 
 Taichi takes one precision per process and the suite runs in float32, so the
 tests start this file once (tests/physics_results.py) and judge its numbers.
-Every section is a function of rigid.experiments; its reference (closed form,
+Every section is a function of rigid.science.experiments; its reference (closed form,
 scipy) is computed there too, outside the simulator.
 """
 import json
@@ -13,12 +13,12 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from rigid import experiments as ex  # noqa: E402
+from rigid.science import experiments as ex  # noqa: E402
 from rigid.runtime import init_taichi  # noqa: E402
-from rigid.units import load_units  # noqa: E402
+from rigid.engine.units import load_units  # noqa: E402
 
 # The flip, where explicit Euler's energy drift moves the orbit: Δt = 1e-4 keeps Euler's period
-# error near 1 % (at the default 1e-3 it is 6 %: see scripts/validate.py); RK4 at 1/240 s. ω0 is rigid.experiments.FLIP_W0.
+# error near 1 % (at the default 1e-3 it is 6 %: see scripts/validate.py); RK4 at 1/240 s. ω0 is rigid.science.experiments.FLIP_W0.
 EULER_DTS = (1 / 250, 1 / 500, 1 / 1000)
 RK4_DTS = (1 / 60, 1 / 120, 1 / 240)
 

@@ -12,7 +12,7 @@ def test_sphere_obj_gives_42_particles_and_mass(sim_cache):
 
 
 def test_obj_with_uv_and_normals_keeps_one_particle_per_v_line(tmp_path):
-    from rigid.mesh import load_mesh
+    from rigid.bodies.mesh import load_mesh
 
     s = trimesh.creation.icosphere(subdivisions=1)
     lines = [f"v {x} {y} {z}" for x, y, z in s.vertices]
@@ -27,7 +27,7 @@ def test_obj_with_uv_and_normals_keeps_one_particle_per_v_line(tmp_path):
 
 
 def test_every_asset_format_loads(tmp_path):
-    from rigid.mesh import load_mesh
+    from rigid.bodies.mesh import load_mesh
 
     box = trimesh.creation.box(extents=(1, 2, 3))
     for ext in ("stl", "ply", "off", "glb"):
@@ -39,7 +39,7 @@ def test_every_asset_format_loads(tmp_path):
 
 def test_inertia_is_numpys_particle_sum(sim_cache):
     sim = sim_cache(mesh=str(ASSETS / "t_handle.obj"), scale=1.0, particle_mass=0.7)
-    from rigid.mesh import load_mesh
+    from rigid.bodies.mesh import load_mesh
 
     v, _ = load_mesh(ASSETS / "t_handle.obj")
     r = v - v.mean(axis=0)

@@ -74,7 +74,7 @@ def test_interrupted_export_is_complete_and_readable(tmp_path):
 
 
 def test_failed_write_keeps_the_previous_file(tmp_path):
-    from rigid.atomic import atomic_output
+    from rigid.run.atomic import atomic_output
 
     target = tmp_path / "t.npz"
     target.write_bytes(b"previous")

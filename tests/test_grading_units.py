@@ -14,7 +14,7 @@ from rigid.grading.diagnose import close, diagnose_output
 from rigid.grading.mistakes import MISTAKES
 from rigid.grading.specs import DEFAULT_POINTS, TODOS, sample_inputs
 from rigid.grading.submissions import discover
-from rigid.rotation import quaternion_multiplication_np
+from rigid.engine.rotation import quaternion_multiplication_np
 
 
 def right_answers(k, d):
@@ -133,7 +133,7 @@ def test_trajectory_blame_halves_to_the_straying_unit_and_spares_an_engine_bug(m
     from types import SimpleNamespace
 
     from rigid.grading import checks, trajectory
-    from rigid.units import UNIT_NAMES
+    from rigid.engine.units import UNIT_NAMES
 
     reference = SimpleNamespace(**{n: f"ref.{n}" for n in UNIT_NAMES})
     module = SimpleNamespace(**{n: f"sub.{n}" for n in UNIT_NAMES})

@@ -11,7 +11,7 @@ def _trimesh(path):
 
 
 def test_assets_and_uv_normal_obj_read_as_trimesh_reads_them(tmp_path):
-    from rigid.objfile import read_plain_obj
+    from rigid.bodies.objfile import read_plain_obj
 
     s = trimesh.creation.icosphere(subdivisions=1)
     lines = ["# with uv and normals", "s off"] + [f"v {float(x)!r} {float(y)!r} {float(z)!r}" for x, y, z in s.vertices]
@@ -29,7 +29,7 @@ def test_assets_and_uv_normal_obj_read_as_trimesh_reads_them(tmp_path):
 
 
 def test_anything_unusual_goes_to_trimesh(tmp_path):
-    from rigid.objfile import read_plain_obj
+    from rigid.bodies.objfile import read_plain_obj
 
     cases = {"quad": "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n",
              "negative": "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\n",

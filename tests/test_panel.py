@@ -28,7 +28,7 @@ class FakeGui:
 
 
 def test_untouched_sliders_change_nothing(sim_cache):
-    from rigid.panel import ControlPanel
+    from rigid.view.panel import ControlPanel
 
     sim = sim_cache()
     before = {n: float(getattr(sim.params, n)[None]) for n in sim.params.NAMES}
@@ -38,7 +38,7 @@ def test_untouched_sliders_change_nothing(sim_cache):
 
 
 def test_gravity_slider_takes_effect_on_the_next_frame(sim_cache):
-    from rigid.panel import ControlPanel
+    from rigid.view.panel import ControlPanel
 
     sim = sim_cache(walls=False)
     pressed = ControlPanel(sim).draw(FakeGui({"gravity y": -20.0, "dt [ms]": 0.5}), fps=60.0)
@@ -51,7 +51,7 @@ def test_gravity_slider_takes_effect_on_the_next_frame(sim_cache):
 
 
 def test_kick_button_gives_momentum_and_spin(sim_cache):
-    from rigid.panel import KICK_SPEED, ControlPanel
+    from rigid.view.panel import KICK_SPEED, ControlPanel
 
     sim = sim_cache(gravity=(0, 0, 0), walls=False)
     panel = ControlPanel(sim, seed=3)

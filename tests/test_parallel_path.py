@@ -59,7 +59,7 @@ def test_parallel_path_follows_serial_and_is_bit_reproducible(cube):
 
 def test_blocked_sum_with_culling_matches_a_plain_particle_loop(cube, units):
     sys.path.insert(0, str(ROOT / "scripts"))
-    from bench_handout import HandoutLoop
+    from rigid.bench.handout import HandoutLoop
 
     engine = _run(cube, parallel=False)
     plain = HandoutLoop(cube.model.r0_np, cube.config.particle_mass, units, cube.config)
@@ -86,7 +86,7 @@ def test_without_walls_a_big_body_falls_through_the_floor(cube):
 
 
 def test_blocks_cover_every_particle_once_inside_their_boxes():
-    from rigid.blocks import block_layout
+    from rigid.engine.blocks import block_layout
 
     rng = np.random.default_rng(3)
     r0 = rng.normal(size=(1000, 3)) * [0.3, 0.1, 0.2]
@@ -106,9 +106,9 @@ def test_reach_test_never_misses_a_particle_behind_a_plane(ti_cpu):
     behind the floor or a wall is always flagged; and the flag is not far too eager."""
     import taichi as ti
 
-    from rigid.blocks import ParticleBlocks
-    from rigid.rotation import quaternion_to_matrix_np
-    from rigid.wrench import make_wrench
+    from rigid.engine.blocks import ParticleBlocks
+    from rigid.engine.rotation import quaternion_to_matrix_np
+    from rigid.engine.wrench import make_wrench
 
     rng = np.random.default_rng(4)
     r0 = rng.normal(size=(512, 3)) * [0.3, 0.1, 0.2]

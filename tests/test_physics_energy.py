@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import physics_results
-from rigid import experiments as ex
+from rigid.science import experiments as ex
 
 physics_results.start()
 

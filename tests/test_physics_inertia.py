@@ -8,8 +8,8 @@ import trimesh
 import physics_results
 from conftest import ASSETS
 from rigid.errors import UserError
-from rigid.mesh import load_mesh
-from rigid.sampling import sample_volume
+from rigid.bodies.mesh import load_mesh
+from rigid.bodies.sampling import sample_volume
 
 physics_results.start()
 OFFSET = (0.31, -0.17, 0.23)  # off the origin, so a centre-of-mass error cannot hide at 0

@@ -17,7 +17,7 @@ def test_quaternion_stays_unit_every_frame_float64():
 
 def test_quaternion_stays_unit_every_frame_float32(sim_cache):
     """The handout's sphere thrown spinning into the box, 3 s of bounces, every frame."""
-    from rigid import experiments as ex
+    from rigid.science import experiments as ex
 
     sim = sim_cache(initial_velocity=(3.0, 2.0, -2.0), initial_angular_velocity=(2.0, 7.0, 1.0))
     health = ex.rotation_health(ex.record(sim, 180, sim.substeps))

@@ -18,7 +18,7 @@ import pytest
 from conftest import ROOT, SOLUTION
 
 pytestmark = pytest.mark.skipif(
-    __import__("rigid.vulkan", fromlist=["vulkan_problem"]).vulkan_problem() is not None,
+    __import__("rigid.view.vulkan", fromlist=["vulkan_problem"]).vulkan_problem() is not None,
     reason="no Vulkan device (sudo apt-get install mesa-vulkan-drivers)")
 
 W, H = 160, 120
@@ -49,7 +49,7 @@ def falling_sphere(sim_cache):
 
 
 def test_mp4_has_frames_rate_size_and_shows_the_falling_body(falling_sphere, tmp_path):
-    from rigid.video import record
+    from rigid.view.video import record
 
     out = tmp_path / "fall.mp4"
     out.write_bytes(b"an older recording")
@@ -66,7 +66,7 @@ def test_mp4_has_frames_rate_size_and_shows_the_falling_body(falling_sphere, tmp
 
 
 def test_gif_keeps_every_second_frame_at_30_fps_and_moves(falling_sphere, tmp_path):
-    from rigid.video import record
+    from rigid.view.video import record
 
     out = tmp_path / "fall.gif"
     record(falling_sphere, out, 24, (W, H), progress=False, screenshot=tmp_path / "last.png")
@@ -81,7 +81,7 @@ def test_gif_keeps_every_second_frame_at_30_fps_and_moves(falling_sphere, tmp_pa
 
 
 def test_blow_up_keeps_the_frames_before_it(sim_cache, tmp_path):
-    from rigid.video import record
+    from rigid.view.video import record
 
     sim = sim_cache(collision_stiffness=1e7)  # explicit Euler needs dt < 6.3e-4 s for this spring
     out = tmp_path / "boom.mp4"
@@ -91,7 +91,7 @@ def test_blow_up_keeps_the_frames_before_it(sim_cache, tmp_path):
 
 
 def test_a_failed_recording_leaves_the_earlier_file(falling_sphere, tmp_path, monkeypatch):
-    import rigid.video
+    import rigid.view.video
 
     out = tmp_path / "keep.mp4"
     out.write_bytes(b"an older recording")
@@ -102,19 +102,19 @@ def test_a_failed_recording_leaves_the_earlier_file(falling_sphere, tmp_path, mo
         if len(calls) == 5:
             raise RuntimeError("disk full")
 
-    monkeypatch.setattr(rigid.video.TextOverlay, "draw", failing_draw)
+    monkeypatch.setattr(rigid.view.video.TextOverlay, "draw", failing_draw)
     with pytest.raises(RuntimeError, match="disk full"):
-        rigid.video.record(falling_sphere, out, 24, (W, H), progress=False)
+        rigid.view.video.record(falling_sphere, out, 24, (W, H), progress=False)
     assert out.read_bytes() == b"an older recording"
     assert [p.name for p in tmp_path.iterdir()] == ["keep.mp4"]
 
 
 def test_no_vulkan_is_one_line_naming_the_package(falling_sphere, tmp_path, monkeypatch):
-    import rigid.vulkan
+    import rigid.view.vulkan
     from rigid.errors import UserError
-    from rigid.video import record
+    from rigid.view.video import record
 
-    monkeypatch.setattr(rigid.vulkan, "vulkan_problem", lambda: "no Vulkan driver")
+    monkeypatch.setattr(rigid.view.vulkan, "vulkan_problem", lambda: "no Vulkan driver")
     with pytest.raises(UserError) as err:
         record(falling_sphere, tmp_path / "x.mp4", 5, (W, H), progress=False)
     message = str(err.value)
@@ -122,7 +122,7 @@ def test_no_vulkan_is_one_line_naming_the_package(falling_sphere, tmp_path, monk
     # and the real probe answers without Taichi when the loader finds no driver
     nowhere = str(tmp_path / "none.json")
     env = dict(os.environ, VK_ICD_FILENAMES=nowhere, VK_DRIVER_FILES=nowhere)
-    code = "from rigid.vulkan import vulkan_problem; print(vulkan_problem())"
+    code = "from rigid.view.vulkan import vulkan_problem; print(vulkan_problem())"
     probe = subprocess.run([sys.executable, "-c", code], cwd=ROOT, env=env, capture_output=True, text=True,
                            timeout=30)
     assert probe.stdout.startswith("no Vulkan"), probe.stdout + probe.stderr

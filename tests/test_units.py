@@ -5,7 +5,7 @@ Particle mass and Δt are far from 1 and 1e-3, so a missing factor cannot hide.
 import numpy as np
 import taichi as ti
 
-from rigid.rotation import quaternion_multiplication_np, quaternion_to_matrix_np
+from rigid.engine.rotation import quaternion_multiplication_np, quaternion_to_matrix_np
 
 K = 64  # random cases per unit
 rng = np.random.default_rng(42)
@@ -56,7 +56,7 @@ def _run(units, name, n_out_vec, *arrays):
     return out.astype(np.float64)
 
 
-from rigid.rotation import quaternion_to_matrix as quaternion_to_matrix_ti  # noqa: E402
+from rigid.engine.rotation import quaternion_to_matrix as quaternion_to_matrix_ti  # noqa: E402
 
 
 @ti.func

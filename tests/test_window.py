@@ -10,7 +10,7 @@ from conftest import ROOT, SOLUTION
 
 
 def test_window_runs_under_xvfb_and_its_screenshot_shows_the_scene(tmp_path):
-    from rigid.vulkan import vulkan_problem
+    from rigid.view.vulkan import vulkan_problem
 
     if shutil.which("xvfb-run") is None or vulkan_problem():
         pytest.skip("needs xvfb-run and Vulkan (scripts/setup.sh installs both)")
@@ -33,7 +33,7 @@ def test_window_runs_under_xvfb_and_its_screenshot_shows_the_scene(tmp_path):
 
 def test_window_without_a_display_is_one_line(monkeypatch):
     from rigid.errors import UserError
-    from rigid.window import run_window
+    from rigid.view.window import run_window
 
     monkeypatch.delenv("DISPLAY", raising=False)
     monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)

@@ -8,5 +8,6 @@
 - report.py       the terminal table, JSON and CSV
 
 This package imports nothing heavy at import time: the child sets its resource
-limits before numpy and Taichi load.
+limits before numpy and Taichi load. May import the base modules, ``bodies``, ``engine`` and
+``run``; never ``view``, ``report`` or the CLI.
 """

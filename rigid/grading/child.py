@@ -64,7 +64,7 @@ def make_expected(events, reference_path, out_path):
     """Trusted mode (no submission): the reference's answers for every check, saved to an NPZ."""
     events.emit(phase="setup")
     from ..runtime import init_taichi
-    from ..units import load_units
+    from ..engine.units import load_units
     from . import expected
 
     init_taichi("cpu", fp64=True)
@@ -101,7 +101,7 @@ def main(argv=None):
     events.emit(phase="setup")
     # After the import: a submission that calls ti.init itself is overridden here.
     from ..runtime import init_taichi
-    from ..units import load_units
+    from ..engine.units import load_units
     from .checks import check_direct, check_trajectories
     from .expected import Expected
     from .specs import TODOS

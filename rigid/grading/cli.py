@@ -9,7 +9,7 @@ import os
 import sys
 from pathlib import Path
 
-from ..atomic import check_output_path
+from ..run.atomic import check_output_path
 from ..config import REPO_ROOT
 from ..errors import UserError
 from .specs import DEFAULT_POINTS, TODOS

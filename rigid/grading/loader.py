@@ -1,7 +1,7 @@
 """Import a submission file by path and turn any failure into one line for the student.
 
 Runs only in the child process. The module gets a fresh unique name (Taichi
-looks functions' source up through sys.modules), like rigid.units.load_units,
+looks functions' source up through sys.modules), like rigid.engine.units.load_units,
 but a missing TODO function is not an error here: it costs only its TODO.
 """
 import importlib.util
@@ -29,7 +29,7 @@ def import_submission(path, memory_mb: int):
         return None, f"the file has a syntax error at line {err.lineno}: {err.msg}"
     except ModuleNotFoundError as err:
         return None, (f"the file imports {err.name!r}, which the grader does not have; "
-                      f"use only taichi, numpy and rigid.rotation")
+                      f"use only taichi, numpy and rigid.engine.rotation")
     except MemoryError:
         return None, f"the file ran out of memory when imported (limit {memory_mb} MB)"
     except BaseException as err:  # anything a submission raises at import costs its points, nothing more

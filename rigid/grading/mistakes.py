@@ -11,7 +11,7 @@ for the explicit Euler step (accepting it would take a Taichi twin in alternativ
 """
 import numpy as np
 
-from ..rotation import quaternion_multiplication_np
+from ..engine.rotation import quaternion_multiplication_np
 
 
 def mv(A, v):

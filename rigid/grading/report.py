@@ -10,7 +10,7 @@ messages of the TODOs that lost points).
 import csv
 import json
 
-from ..atomic import atomic_output
+from ..run.atomic import atomic_output
 from .specs import TODOS
 
 

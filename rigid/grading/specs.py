@@ -10,8 +10,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..rotation import quaternion_to_matrix_np
-from ..units import UNIT_NAMES
+from ..engine.rotation import quaternion_to_matrix_np
+from ..engine.units import UNIT_NAMES
 
 SAMPLES = 64  # random calls per unit
 SEED = 20240531

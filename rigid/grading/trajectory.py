@@ -12,8 +12,8 @@ relative to the reference's size (x in metres over a ~1 m box).
 import numpy as np
 
 from ..config import SimConfig
-from ..mesh import BodyGeometry
-from ..simulator import Simulator
+from ..bodies.mesh import BodyGeometry
+from ..engine.simulator import Simulator
 
 SUBSTEPS_PER_CHECKPOINT = 160
 CHECKPOINTS = 3  # after 160, 320, 480 substeps = 0.6 s: free flight, floor, wall

@@ -13,7 +13,7 @@ import ctypes
 import os
 import sys
 
-from .errors import UserError
+from ..errors import UserError
 
 INSTALL_HINT = ("install Mesa's software Vulkan: sudo apt-get install mesa-vulkan-drivers "
                 "(or run scripts/setup.sh)")

@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from .integrate import Integrator
-from .mesh import BodyGeometry, body_geometry
+from ..bodies.mesh import BodyGeometry, body_geometry
 from .model import Model
 from .state import Params, State
 from .units import check_units

@@ -6,7 +6,7 @@ index optionally ``a/t/n``), and ``vt``/``vn``/``s``/comment lines. For those,
 this reader returns what trimesh returns with ``process=False,
 maintain_order=True`` (the file's vertices in file order, faces 0-based).
 Anything else (polygons, negative indices, groups, materials, odd lines)
-returns None and ``rigid.mesh.load_mesh`` hands the file to trimesh, which
+returns None and ``rigid.bodies.mesh.load_mesh`` hands the file to trimesh, which
 also reports garbled files.
 """
 from __future__ import annotations

@@ -9,7 +9,7 @@ import contextlib
 import os
 from pathlib import Path
 
-from .errors import UserError
+from ..errors import UserError
 
 
 def check_output_path(path, suffixes: tuple[str, ...] = ()) -> Path:

@@ -14,7 +14,7 @@ import av
 import numpy as np
 from PIL import Image
 
-from .errors import UserError
+from ..errors import UserError
 
 FPS = 60
 GIF_FPS = 30

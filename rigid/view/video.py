@@ -17,10 +17,10 @@ from pathlib import Path
 
 from tqdm import tqdm
 
-from .atomic import atomic_output
+from ..run.atomic import atomic_output
 from .encoders import BackgroundWriter, open_writer
 from .imaging import TextOverlay, save_png
-from .runner import RunResult, run_frames
+from ..run.runner import RunResult, run_frames
 
 
 class _NothingWritten(Exception):

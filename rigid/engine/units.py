@@ -20,7 +20,7 @@ import sys
 import uuid
 from pathlib import Path
 
-from .errors import UserError
+from ..errors import UserError
 
 UNIT_NAMES = ("particle_inertia", "gravity_force", "total_force_term", "torque_term",
               "update_linear", "update_orientation", "update_angular")

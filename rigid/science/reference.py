@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .rotation import quaternion_multiplication_np, quaternion_to_matrix_np
+from ..engine.rotation import quaternion_multiplication_np, quaternion_to_matrix_np
 
 
 def explicit_euler_free_fall(x0, v0, g, dt: float, n) -> np.ndarray:

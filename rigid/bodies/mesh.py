@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import UserError
+from ..errors import UserError
 
 FORMATS = (".obj", ".stl", ".ply", ".off", ".glb")
 

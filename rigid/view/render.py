@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import taichi as ti
 
-from .errors import UserError
+from ..errors import UserError
 from .imaging import buffer_to_rgba8
 from .orbit import OrbitCamera
 from .panel import PANEL_TITLE

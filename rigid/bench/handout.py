@@ -6,7 +6,7 @@ top-level (so parallel) loops over the particles: forces on every particle
 (stored), F with atomics, τ with atomics, then one thread updates the body,
 then a last loop stores every particle's position and velocity for the next
 substep. The physics is the engine's: the same 7 TODO units, the same contact
-(rigid.contact.box_force), explicit Euler. Only the structure differs, which is
+(rigid.engine.contact.box_force), explicit Euler. Only the structure differs, which is
 what the benchmark measures: launches, tasks, per-substep particle stores.
 The handout also runs Taichi with ``debug=True``, which makes it several times
 slower again; the baseline here runs without it (one ti.init per process).
@@ -16,8 +16,8 @@ Kernels live in this file because Taichi needs kernel source on disk.
 import numpy as np
 import taichi as ti
 
-from rigid.contact import box_force
-from rigid.rotation import quaternion_to_matrix
+from rigid.engine.contact import box_force
+from rigid.engine.rotation import quaternion_to_matrix
 
 
 class HandoutLoop:

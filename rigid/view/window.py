@@ -3,7 +3,7 @@
 Keys: space pause/resume, n one frame while paused, r reset, k random kick, esc quit
 (GGUI 1.7 reports letters, space, arrows and a few named keys only, so the
 single step is ``n``, not ``.``). Mouse: right-drag orbits, middle-drag zooms.
-The frame loop is ``rigid.runner.run_frames``: pausing happens inside its
+The frame loop is ``rigid.run.runner.run_frames``: pausing happens inside its
 ``on_frame`` (we keep drawing without stepping). After a blow-up the window
 stays open, paused, with the message in the panel; a reset starts a new run.
 """
@@ -16,7 +16,7 @@ import taichi as ti
 
 from .imaging import save_png
 from .panel import ControlPanel
-from .runner import RunResult, StopRun, run_frames
+from ..run.runner import RunResult, StopRun, run_frames
 from .vulkan import require_display
 
 WINDOW_SIZE = (1280, 720)

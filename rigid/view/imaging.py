@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 from PIL import Image, ImageDraw, ImageFont
 
-from .atomic import atomic_output
+from ..run.atomic import atomic_output
 
 
 def buffer_to_rgba8(buffer: np.ndarray) -> np.ndarray:

@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .errors import UserError
+from ..errors import UserError
 
 # Ray offsets in units of h, tried in turn for columns whose ray grazed an edge: tiny, so
 # only centres within ~1e-7 h of the surface can be classified by the moved ray, yet far

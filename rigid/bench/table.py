@@ -5,9 +5,8 @@ import json
 import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from rigid.atomic import atomic_output  # noqa: E402
+from rigid.run.atomic import atomic_output
 
 HEADER = ["body", "particles", "engine path", "handout loop µs", "engine µs", "MuJoCo µs",
           "speed-up vs handout", "engine / MuJoCo", "particles/s (engine)"]
@@ -75,7 +74,7 @@ def markdown(result: dict) -> str:
              f"Δt = {s['dt']:g} s, {s['substeps_per_frame']} substeps per frame; µs per substep = median over "
              "repeats of the wall time of whole frames / substeps. Sphere and torus: thrown from the centre "
              f"(v0 = {s['initial_velocity']}, ω0 = {s['initial_angular_velocity']}) for "
-             f"{result['rows'][0]['frames']} frames; the cube is volume-sampled (rigid.sampling).",
+             f"{result['rows'][0]['frames']} frames; the cube is volume-sampled (rigid.bodies.sampling).",
              "Handout loop: one kernel launch per substep from Python, parallel particle loops, atomic sums "
              "(scripts/bench_handout.py). MuJoCo: the same box and Δt, Euler, the mesh's convex hull "
              "(a box geom for the cube), mj_step(nstep=16) per frame.",

@@ -1,4 +1,4 @@
-"""Physics experiments on a Simulator, each judged against ``rigid.reference``.
+"""Physics experiments on a Simulator, each judged against ``rigid.science.reference``.
 
 Every function takes ``get_sim(**config) -> Simulator`` (a reconfigured, reset
 simulator, e.g. ``SimulatorCache`` below or the tests' ``sim_cache``) and
@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import reference as ref
-from .config import ASSETS, SimConfig
+from ..config import ASSETS, SimConfig
 
 # particle_mass 0.7, not 1: a missing mass factor would hide behind m = 1.
 T_HANDLE = dict(mesh=str(ASSETS / "t_handle.obj"), scale=1.0, walls=False, particle_mass=0.7)
@@ -30,7 +30,7 @@ class SimulatorCache:
         self.units, self.fp64, self.sims = units, fp64, {}
 
     def __call__(self, **config):
-        from .simulator import Simulator
+        from ..engine.simulator import Simulator
 
         runtime = {k: v for k, v in config.items() if k in Simulator.RUNTIME_KEYS}
         fixed = {k: v for k, v in config.items() if k not in Simulator.RUNTIME_KEYS}

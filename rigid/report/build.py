@@ -1,0 +1,127 @@
+"""Regenerate report/: report.md and report.pdf with their figures.
+
+    python scripts/make_report.py            # ~1 minute: simulations, validation, figures, PDF
+    python scripts/make_report.py --quick    # shorter runs (the tests use it)
+
+Simulations run here (CPU, float32, fixed seeds: the same figures every time).
+The validation table comes from scripts/validate.py and the benchmark table from
+scripts/bench.py: their JSON in report/ is used when present (the benchmark is slow
+and its timings are the machine's, not reproducible); --rerun runs both again.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]  # the repository
+
+from rigid.report import figures as figures
+from rigid.report import text as report_text
+from rigid.report.document import Doc
+
+SCENES = ("assignment", "thrown_sphere", "tumbling_t_handle", "bouncing_torus")
+
+
+def main(argv=None) -> int:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--out", default=str(ROOT / "report"), help="output folder (default report/)")
+    p.add_argument("--quick", action="store_true", help="short simulations, for tests")
+    p.add_argument("--rerun", action="store_true", help="re-run scripts/validate.py and scripts/bench.py")
+    args = p.parse_args(argv)
+    out = Path(args.out)
+    (out / "figures").mkdir(parents=True, exist_ok=True)
+
+    from rigid.config import SimConfig, load_scene
+    from rigid.science.experiments import SimulatorCache, record
+    from rigid.runtime import init_taichi
+    from rigid.engine.units import load_units
+
+    init_taichi("cpu", fp64=False)
+    units = load_units(ROOT / "rigid_body_dynamic.py")
+    get_sim = SimulatorCache(units, fp64=False)
+    configs = {name: SimConfig(**load_scene(ROOT / "assets/scenes" / f"{name}.toml")).validate()
+               for name in SCENES}
+    seconds = 3.0 if args.quick else 10.0
+
+    runs = {}
+    for name in ("assignment", "thrown_sphere", "tumbling_t_handle"):
+        c = configs[name]
+        scene = {k: getattr(c, k) for k in ("mesh", "scale", "particle_mass", "integrator")}
+        runtime = {k: getattr(c, k) for k in get_sim_runtime_keys()}
+        sim = get_sim(**scene, **runtime)
+        runs[name] = record(sim, int(seconds * 60), sim.substeps)
+        figures.energy_momentum(runs[name], f"{name}.toml", out / "figures" / f"energy_{name}.png")
+    figures.side_view(runs["thrown_sphere"], configs["thrown_sphere"].floor, configs["thrown_sphere"].wall,
+                      out / "figures" / "trajectory_thrown_sphere.png")
+    flip = flip_figure(get_sim, out / "figures" / "flip.png", duration=6.0 if args.quick else 9.0)
+    validation = load_or_run(out / "validation.json", ["scripts/validate.py", "--out", str(out)], args.rerun)
+    if validation and "convergence" in validation:
+        figures.convergence(validation["convergence"], out / "figures" / "convergence.png")
+    bench = load_or_run(out / "bench.json", ["scripts/bench.py", "--out", str(out)], args.rerun, run_if_missing=False)
+    stills = render_stills(out / "figures")
+
+    doc = Doc()
+    report_text.write(doc, out, configs=configs, runs=runs, flip=flip, validation=validation,
+                      bench=bench, stills=stills)
+    (out / "report.md").write_text(doc.markdown(out))
+    doc.pdf(out / "report.pdf")
+    print(f"wrote {out / 'report.md'} and {out / 'report.pdf'}")
+    return 0
+
+
+def get_sim_runtime_keys():
+    from rigid.engine.simulator import Simulator
+
+    return sorted(Simulator.RUNTIME_KEYS - {"frames", "seed"})
+
+
+def flip_figure(get_sim, path, duration: float) -> dict:
+    """The T-handle's intermediate-axis flip, simulator vs scipy's solve_ivp."""
+    from rigid.science import experiments
+    from rigid.science import reference
+
+    omega0 = experiments.FLIP_W0
+    result = experiments.flip(get_sim, omega0=omega0, duration=duration)
+    sim = get_sim(**experiments.T_HANDLE, gravity=(0.0, 0.0, 0.0), initial_angular_velocity=omega0)
+    traj = experiments.record(sim, int(duration * 100), 10)
+    _w, _q, omega_ref = reference.torque_free_rotation(sim.model.inertia_body_np, omega0, traj["t"])
+    figures.flip(traj["t"], experiments.body_omega(traj), traj["t"], omega_ref, result["period"],
+                 result["reference_period"], path)
+    return result
+
+
+def load_or_run(path: Path, command: list[str], rerun: bool, run_if_missing: bool = True) -> dict | None:
+    if (rerun or (run_if_missing and not path.exists())) and (ROOT / command[0]).exists():
+        subprocess.run([sys.executable, *command], cwd=ROOT, check=True)
+    return json.loads(path.read_text()) if path.exists() else None
+
+
+def render_stills(folder: Path, frames=(10, 60, 150)) -> list[Path]:
+    """Three frames of a recording of the thrown sphere (empty if recording is unavailable)."""
+    import av
+    import numpy as np
+    from PIL import Image
+
+    video = folder / "thrown_sphere.mp4"
+    proc = subprocess.run([sys.executable, "rigid_body_dynamic.py", "--scene", "assets/scenes/thrown_sphere.toml",
+                           "--record", str(video), "--frames", str(max(frames) + 1), "--resolution", "640", "360"],
+                          cwd=ROOT, capture_output=True, text=True)
+    if proc.returncode != 0:
+        print(f"note: no stills ({proc.stderr.strip().splitlines()[-1:]})", file=sys.stderr)
+        return []
+    paths = []
+    with av.open(str(video)) as container:
+        for i, frame in enumerate(container.decode(video=0)):
+            if i in frames:
+                path = folder / f"still_{i:03d}.png"
+                Image.fromarray(np.asarray(frame.to_ndarray(format="rgb24"))).save(path)
+                paths.append(path)
+    video.unlink()
+    return paths
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
