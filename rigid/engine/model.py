@@ -47,12 +47,20 @@ class Model:
         self.particle_body.fill(0)
         self.body_start[0], self.body_count[0] = 0, n
         self.particle_mass[0], self.body_mass[0] = particle_mass, self.mass
+        self.surface_np = np.asarray(surface, dtype=np.float64).reshape(-1, 3) - self.center_of_mass
+        self.faces_np = np.asarray(faces, dtype=np.int32).reshape(-1, 3)
+        self.body_names = ["body"]
         if v:
-            _load(self.surface_r0, np.asarray(surface, dtype=np.float64) - self.center_of_mass)
+            _load(self.surface_r0, self.surface_np)
         if len(faces):
             self.indices.from_numpy(np.asarray(faces, dtype=np.int32).reshape(-1))
         self.num_faces = len(faces)
         self._compute_inertia(units)
+
+    def body_surfaces(self) -> list:
+        """Per body: (name, drawn vertices (V, 3) float64 in the body frame about its centre of
+        mass, triangles (F, 3) int32 into those vertices). Exporters (glTF, USD) write these."""
+        return [(self.body_names[0], self.surface_np, self.faces_np)]
 
     def _compute_inertia(self, units):
         """I0 = Σ TODO1(m, r0ᵢ), summed in a fixed (serial) order; I0⁻¹ on the host in float64."""
