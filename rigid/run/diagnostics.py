@@ -67,10 +67,11 @@ def blow_up(row: dict, initial_energy: float, energy_bound: float) -> str | None
 
 
 def stability_hint(config) -> str:
-    """The likely fix, with the explicit-Euler stability bound of one particle's spring."""
-    k, m = config.collision_stiffness, config.particle_mass
-    if k <= 0:
-        return f"try a smaller --dt (now {config.dt:g})"
-    bound = 2.0 / math.sqrt(k / m)
-    return (f"try a smaller --dt (now {config.dt:g}; a particle's contact spring needs "
-            f"dt < 2/sqrt(k/m) = {bound:.3g} s for k = {k:g}, m = {m:g}) or a lower collision_stiffness")
+    """The likely fix: the integrator's stability bound for one particle's wall contact
+    (spring and damper together, rigid.run.stability), naming the term that limits it.
+    With several bodies the lightest particle sets the bound."""
+    from .stability import stability_message
+
+    masses = [body.get("particle_mass", config.particle_mass) for body in getattr(config, "bodies", ())]
+    return stability_message(config.dt, config.collision_stiffness, config.velocity_damping_stiffness,
+                             min(masses or [config.particle_mass]), config.integrator)
