@@ -27,11 +27,16 @@ class SimConfig:
     mesh: str = str(ASSETS / "sphere.obj")
     scale: float = 0.3  # the handout's read_obj_file(..., scale=0.3)
     position: tuple = (0.0, 0.0, 0.0)  # initial centre of mass, world frame
+    orientation: tuple = (1.0, 0.0, 0.0, 0.0)  # initial unit quaternion, scalar first
     particles: str = "vertex"  # "vertex": mesh vertices; "volume": grid cells inside the mesh
     grid: int = 32  # volume sampling: cells along the longest side
     particle_mass: float = 1.0
     initial_velocity: tuple = (0.0, 0.0, 0.0)
     initial_angular_velocity: tuple = (0.0, 0.0, 0.0)  # world frame, rad/s
+    particle_radius: float | None = None  # collision radius between bodies; None: from the spacing
+    count: int = 1  # copies of the body, placed in a lattice above position (rigid.bodies.placement)
+    # [[body]] tables of a scene: per-body overrides of the keys above (BODY_KEYS); empty: one body
+    bodies: tuple = ()
     # world
     gravity: tuple = (0.0, -9.8, 0.0)
     walls: bool = True  # the box: floor y = floor, walls x, z = ±wall
@@ -49,6 +54,28 @@ class SimConfig:
     arch: str = "cpu"
     seed: int = 0
     resolution: tuple = (1280, 720)
+
+    @property
+    def num_body_entries(self) -> int:
+        """Body entries before ``count`` copies: the [[body]] tables, or the top level alone."""
+        return max(1, len(self.bodies))
+
+    @property
+    def many_bodies(self) -> bool:
+        """Whether the scene has several bodies (the many-body engine) or one (the classic path)."""
+        return len(self.bodies) > 1 or any(b.get("count", self.count) > 1 for b in self.bodies) \
+            or (not self.bodies and self.count > 1)
+
+    def body_config(self, index: int) -> "SimConfig":
+        """The config of body entry ``index``: the top level with the [[body]] table's keys over it."""
+        if not self.bodies:
+            return self
+        overrides = self.bodies[index]
+        body = dataclasses.replace(self, bodies=(), **overrides)
+        try:
+            return body.validate()
+        except UserError as err:
+            raise UserError(f"[[body]] {index + 1}: {err}") from None
 
     @property
     def substeps(self) -> int:
@@ -69,6 +96,16 @@ class SimConfig:
             raise UserError(f"wall = {self.wall}: the walls stand at x, z = ±wall; use a positive value")
         for name in ("position", "initial_velocity", "initial_angular_velocity", "gravity"):
             object.__setattr__(self, name, _vec3(name, getattr(self, name)))
+        object.__setattr__(self, "orientation", _quaternion("orientation", self.orientation))
+        if self.particle_radius is not None:
+            _positive("particle_radius", self.particle_radius)
+        if not isinstance(self.count, int) or isinstance(self.count, bool) or not 1 <= self.count <= 1_000_000:
+            raise UserError(f"count = {self.count!r}: use a whole number of copies from 1 to 1000000")
+        for i in range(len(self.bodies)):
+            self.body_config(i)  # raises "[[body]] i: ..." for a bad value in that table
+        if self.many_bodies and self.integrator == "rk4":
+            raise UserError("integrator = 'rk4' runs one body only; use 'symplectic' or 'euler' "
+                            "for scenes with several bodies")
         if self.dt > FRAME_TIME:
             raise UserError(f"dt = {self.dt} is longer than a frame (1/60 s); use --dt 1e-3 or smaller")
         if self.particles not in ("vertex", "volume"):
@@ -87,8 +124,12 @@ class SimConfig:
         return self
 
 
-SCENE_KEYS = {f.name for f in fields(SimConfig)}
-_VECTOR_KEYS = {"position", "initial_velocity", "initial_angular_velocity", "gravity", "resolution"}
+SCENE_KEYS = {f.name for f in fields(SimConfig)} - {"bodies"} | {"body"}
+# Keys a [[body]] table may set; at the top level they are every body's defaults.
+BODY_KEYS = {"mesh", "scale", "position", "orientation", "initial_velocity", "initial_angular_velocity",
+             "particle_mass", "particles", "grid", "particle_radius", "count"}
+_VECTOR_KEYS = {"position", "initial_velocity", "initial_angular_velocity", "gravity", "resolution",
+                "orientation"}
 
 
 def load_scene(path: str | Path) -> dict:
@@ -105,22 +146,52 @@ def load_scene(path: str | Path) -> dict:
         close = difflib.get_close_matches(unknown[0], SCENE_KEYS, n=1)
         hint = f"did you mean {close[0]!r}?" if close else "known keys: " + ", ".join(sorted(SCENE_KEYS))
         raise UserError(f"scene file {path}: unknown key {unknown[0]!r}; {hint}")
-    defaults = SimConfig()
-    for key, value in data.items():
-        _check_type(path, key, value, getattr(defaults, key))
-    if "mesh" in data:
-        data["mesh"] = str((path.parent / data["mesh"]).resolve())
-    for key in _VECTOR_KEYS & set(data):
-        data[key] = tuple(data[key])
+    tables = data.pop("body", [])
+    if not isinstance(tables, list) or not all(isinstance(b, dict) for b in tables):
+        raise UserError(f"scene file {path}: 'body' must be [[body]] tables, one per body")
+    _check_table(path, data, "")
+    bodies = []
+    for i, table in enumerate(tables):
+        unknown = sorted(set(table) - BODY_KEYS)
+        if unknown:
+            where = "a top-level key" if unknown[0] in SCENE_KEYS else "not a body key"
+            close = difflib.get_close_matches(unknown[0], BODY_KEYS, n=1)
+            hint = f"did you mean {close[0]!r}?" if close else f"{where}; body keys: " + ", ".join(sorted(BODY_KEYS))
+            raise UserError(f"scene file {path}: [[body]] {i + 1}: unknown key {unknown[0]!r}; {hint}")
+        bodies.append(_check_table(path, table, f"[[body]] {i + 1}: "))
+    if bodies:
+        data["bodies"] = tuple(bodies)
     return data
 
 
-def _check_type(path, key, value, default):
+def _check_table(path: Path, table: dict, where: str) -> dict:
+    """Check the types of a table's keys (in place), resolve its mesh path, make vectors tuples."""
+    defaults = SimConfig()
+    for key, value in table.items():
+        _check_type(path, key, value, getattr(defaults, key), where)
+    if "mesh" in table:
+        table["mesh"] = resolve_mesh(path, table["mesh"])
+    for key in _VECTOR_KEYS & set(table):
+        table[key] = tuple(table[key])
+    return table
+
+
+def resolve_mesh(scene: Path, mesh: str) -> str:
+    """A scene's mesh path: relative to the TOML file, then to assets/ (absolute paths as they are)."""
+    beside = (scene.parent / mesh).resolve()
+    if beside.exists() or Path(mesh).is_absolute() or not (ASSETS / mesh).exists():
+        return str(beside)
+    return str((ASSETS / mesh).resolve())
+
+
+def _check_type(path, key, value, default, where=""):
     if key in _VECTOR_KEYS:
         ok = isinstance(value, list) and all(_is_number(v) for v in value)
         want = "a list of numbers, e.g. [0.0, 1.0, 0.0]"
-    elif key == "frames":
+    elif key in ("frames", "count"):
         ok, want = isinstance(value, int) and not isinstance(value, bool), "a whole number"
+    elif key == "particle_radius":
+        ok, want = _is_number(value), "a number (metres)"
     elif isinstance(default, bool):
         ok, want = isinstance(value, bool), "true or false"
     elif isinstance(default, int):
@@ -130,7 +201,7 @@ def _check_type(path, key, value, default):
     else:
         ok, want = isinstance(value, str), "a string in quotes"
     if not ok:
-        raise UserError(f"scene file {path}: {key} = {value!r} has the wrong type; use {want}")
+        raise UserError(f"scene file {path}: {where}{key} = {value!r} has the wrong type; use {want}")
 
 
 def _is_number(value) -> bool:
@@ -152,6 +223,16 @@ def _non_negative(name, value):
     _finite(name, value)
     if value < 0:
         raise UserError(f"{name} = {value}: use zero or a positive number")
+
+
+def _quaternion(name, value) -> tuple:
+    value = tuple(value)
+    if len(value) != 4 or not all(_is_number(v) and math.isfinite(v) for v in value):
+        raise UserError(f"{name} = {list(value)}: use four finite numbers W X Y Z (a quaternion, scalar first)")
+    norm = math.sqrt(sum(float(v) ** 2 for v in value))
+    if norm < 1e-9:
+        raise UserError(f"{name} = {list(value)}: a zero quaternion is no rotation; use e.g. [1, 0, 0, 0]")
+    return tuple(float(v) / norm for v in value)
 
 
 def _vec3(name, value) -> tuple:

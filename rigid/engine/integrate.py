@@ -33,6 +33,7 @@ import taichi as ti
 from .blocks import ParticleBlocks
 from .matvec import matvec
 from .rotation import quaternion_to_matrix
+from .updates import make_updates
 from .wrench import make_wrench
 
 # The parallel path pays only for very large bodies on a CPU. Measured on this project's 2-vCPU
@@ -81,38 +82,7 @@ class Integrator:
         # Forces per particle through the TODO units, summed block by block (wrench.py).
         particle_force, _reach, _block_wrench, body_wrench = make_wrench(model, prm, self.blocks, u)
 
-        @ti.func
-        def store(b, x, q, P, L):
-            """Write the new state and its auxiliaries (R, I⁻¹, ω from TODO 7 with zero torque)."""
-            R = quaternion_to_matrix(q)
-            L_same, inertia_inv, omega = u.update_angular(L, ti.Vector.zero(float, 3), R,
-                                                          model.inertia_body_inv[b], 0.0)
-            s.x[b], s.q[b], s.P[b], s.L[b] = x, q, P, L_same
-            s.v[b], s.R[b], s.inertia_inv[b], s.omega[b] = P / model.body_mass[b], R, inertia_inv, omega
-
-        # Each scheme is (wrench at the start of the substep) then (update from that wrench), so that
-        # the parallel path (parallel.py) can sum the wrench over threads and reuse the update.
-        @ti.func
-        def euler_update(b, dt, F, tau):
-            x, q, P, L, omega = s.x[b], s.q[b], s.P[b], s.L[b], s.omega[b]
-            M = model.body_mass[b]
-            x_new, P_new = u.update_linear(x, P, F, M, dt)
-            q_new = u.update_orientation(q, omega, dt)
-            R_new = quaternion_to_matrix(q_new)
-            L_new, inertia_inv, omega_new = u.update_angular(L, tau, R_new, model.inertia_body_inv[b], dt)
-            s.x[b], s.q[b], s.P[b], s.L[b] = x_new, q_new, P_new, L_new
-            s.v[b], s.R[b], s.inertia_inv[b], s.omega[b] = P_new / M, R_new, inertia_inv, omega_new
-
-        @ti.func
-        def symplectic_update(b, dt, F, tau):
-            x, q, P, L, R = s.x[b], s.q[b], s.P[b], s.L[b], s.R[b]
-            M = model.body_mass[b]
-            zero = ti.Vector.zero(float, 3)
-            _x, P_new = u.update_linear(x, P, F, M, dt)  # momenta first ...
-            L_new, _i, omega_mid = u.update_angular(L, tau, R, model.inertia_body_inv[b], dt)
-            x_new, _P = u.update_linear(x, P_new, zero, M, dt)  # ... then move with the new v, ω
-            q_new = u.update_orientation(q, omega_mid, dt)
-            store(b, x_new, q_new, P_new, L_new)
+        store, euler_update, symplectic_update, init_body = make_updates(model, s, u)
 
         update = symplectic_update if scheme == "symplectic" else euler_update
 
@@ -164,13 +134,11 @@ class Integrator:
                 write_particles_serial()
 
         @ti.kernel
-        def init_state(x0: ti.types.vector(3, float), v0: ti.types.vector(3, float),
-                       w0: ti.types.vector(3, float)):
+        def init_state(x0: ti.types.vector(3, float), q0: ti.types.vector(4, float),
+                       v0: ti.types.vector(3, float), w0: ti.types.vector(3, float)):
             ti.loop_config(serialize=True)
             for b in range(num_bodies):
-                # At q = identity the world and body frames agree: L = I0 ω0.
-                q = ti.Vector([1.0, 0.0, 0.0, 0.0])
-                store(b, x0, q, model.body_mass[b] * v0, matvec(model.inertia_body[b], w0))
+                init_body(b, x0, q0, v0, w0)
             write_particles_serial()
 
         @ti.kernel

@@ -3,28 +3,51 @@
     sim = Simulator(config, units)      # after ti.init (see rigid.runtime.init_taichi)
     sim.step_frame()                    # 1/60 s: config.substeps substeps, one launch
     snap = sim.snapshot()               # host copy of the body state (float64 numpy)
+
+One body (no ``[[body]]`` tables, or one without copies) runs the classic path
+(integrate.py: the assignment's single body, serial, block-culled walls); a scene
+with several bodies runs the many-body pipeline (world.py: grid, pair contact).
 """
 from __future__ import annotations
 
 import numpy as np
 
-from .integrate import Integrator
 from ..bodies.mesh import BodyGeometry, body_geometry
-from .model import Model
+from ..bodies.placement import BodySpec, check_inside_box, scene_bodies
+from .integrate import Integrator
+from .model import BodyParts, Model
 from .state import Params, State
 from .units import check_units
 
 
 class Simulator:
-    def __init__(self, config, units, geometry: BodyGeometry | None = None):
-        """Build from config (mesh path, scale, particles) or from a ready BodyGeometry."""
+    def __init__(self, config, units, geometry: BodyGeometry | None = None,
+                 bodies: list[BodySpec] | None = None):
+        """Build from config (meshes, scales, particles), or from a ready BodyGeometry (one body)
+        or list of BodySpec (many bodies, see rigid.bodies.placement)."""
         check_units(units)
         self.config = config
-        g = body_geometry(config) if geometry is None else geometry
-        self.model = Model(g.particles, g.vertices, g.faces, config.particle_mass, units)
+        self.many = config.many_bodies or (bodies is not None and len(bodies) > 1)
+        if self.many:
+            self.bodies = scene_bodies(config) if bodies is None else bodies
+            if config.walls:
+                check_inside_box(self.bodies, config.floor, config.wall, use_radius=True)
+            parts = [BodyParts(b.geometry.particles, b.geometry.vertices, b.geometry.faces, b.particle_mass,
+                               b.radius, b.name) for b in self.bodies]
+        else:
+            self.bodies = None
+            body = config.body_config(0)
+            g = body_geometry(body) if geometry is None else geometry
+            parts = [BodyParts(g.particles, g.vertices, g.faces, body.particle_mass)]
+        self.model = Model(parts, units)
         self.state = State(self.model.num_bodies, self.model.num_particles, self.model.num_surface)
         self.params = Params(config)
-        self.integrator = Integrator(self.model, self.state, self.params, units, config.integrator)
+        if self.many:
+            from .world import WorldIntegrator
+
+            self.integrator = WorldIntegrator(self.model, self.state, self.params, units, config.integrator)
+        else:
+            self.integrator = Integrator(self.model, self.state, self.params, units, config.integrator)
         self.reset()
         self.snapshot()  # compile the read-back kernels now, not in the middle of a run
 
@@ -35,10 +58,15 @@ class Simulator:
 
     def reset(self):
         """Back to the initial state of the config; the model is kept (no mesh reload)."""
-        c = self.config
         self.time = 0.0
         self.frame = 0
-        self.integrator.init_state(c.position, c.initial_velocity, c.initial_angular_velocity)
+        if self.many:
+            b = self.bodies
+            self.integrator.init_state(*(np.array([getattr(body, key) for body in b], np.float64)
+                                         for key in ("position", "orientation", "velocity", "angular_velocity")))
+        else:
+            c = self.config.body_config(0)
+            self.integrator.init_state(c.position, c.orientation, c.initial_velocity, c.initial_angular_velocity)
 
     # Changing these needs no new model and no recompile: they live in 0-d fields.
     RUNTIME_KEYS = frozenset(Params.NAMES) | {"gravity", "walls", "position", "initial_velocity",
@@ -68,13 +96,17 @@ class Simulator:
         self.integrator.apply_impulse(int(particle), [float(c) for c in impulse])
 
     def snapshot(self) -> dict:
-        """Body 0's state and energies as float64 numpy: one row of the NPZ export."""
+        """The state and energies as float64 numpy: one row of the NPZ export. One body: its
+        vectors (3,) and (4,); many: (B, 3) and (B, 4). Energies are totals."""
         s, m = self.state, self.model
-        x, v, P, L, omega = (f.to_numpy()[0].astype(np.float64)
-                             for f in (s.x, s.v, s.P, s.L, s.omega))
-        q = s.q.to_numpy()[0].astype(np.float64)
+        x, v, P, L, omega, q = (f.to_numpy().astype(np.float64) for f in (s.x, s.v, s.P, s.L, s.omega, s.q))
         g = np.asarray(self.params.gravity[None].to_numpy(), dtype=np.float64)
-        kinetic = 0.5 * P.dot(v) + 0.5 * L.dot(omega)
-        potential = -m.mass * g.dot(x) + float(self.integrator.contact_energy())
+        if not self.many:
+            x, v, P, L, omega, q = x[0], v[0], P[0], L[0], omega[0], q[0]
+            kinetic = 0.5 * P.dot(v) + 0.5 * L.dot(omega)
+            potential = -m.mass * g.dot(x) + float(self.integrator.contact_energy())
+        else:
+            kinetic = 0.5 * float((P * v).sum()) + 0.5 * float((L * omega).sum())
+            potential = -float(m.body_mass_np.dot(x @ g)) + float(self.integrator.contact_energy())
         return dict(t=self.time, x=x, q=q, v=v, omega=omega, P=P, L=L,
                     kinetic_energy=kinetic, potential_energy=potential)

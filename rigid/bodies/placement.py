@@ -1,0 +1,170 @@
+"""From a config to the scene's bodies: geometry, collision radius, initial pose, copies.
+
+A scene without ``[[body]]`` tables is one body (the top-level keys). With them,
+each table is a body entry whose unset keys come from the top level, and
+``count = N`` makes N copies of the entry, placed without overlap in a lattice
+whose first layer is centred on the entry's ``position``: as many per layer as
+fit inside the box (walls on) or a square layer (walls off), layers stacked
+upward. Each copy gets a seeded random orientation unless ``orientation`` is
+given (``seed`` + entry index: the same scene gives the same pile).
+
+Collision radius between bodies (``particle_radius``, or from the spacing):
+half the largest nearest-neighbour distance among the body's particles. Every
+particle then touches its nearest neighbour, so the spheres leave no channel a
+particle of the same size could pass through. Volume particles (one per grid
+cell) get half the cell size: the spheres touch face to face and the surface
+they make lies within half a cell of the mesh's. Vertex particles of a coarse
+mesh get larger spheres (half its longest nearest-vertex gap).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import UserError
+from .mesh import BodyGeometry, body_geometry
+
+
+@dataclass
+class BodySpec:
+    """One body of the scene, before Taichi: geometry (shared by copies) and initial state."""
+
+    name: str
+    geometry: BodyGeometry  # particles and drawn mesh, mesh frame (not yet centred)
+    particle_mass: float
+    radius: float  # collision radius of each particle against other bodies, m
+    position: np.ndarray  # (3,) initial centre of mass, world
+    orientation: np.ndarray  # (4,) unit quaternion, scalar first
+    velocity: np.ndarray  # (3,) m/s
+    angular_velocity: np.ndarray  # (3,) rad/s, world
+
+    @property
+    def centre_of_mass(self) -> np.ndarray:
+        return self.geometry.particles.mean(axis=0)
+
+    @property
+    def reach(self) -> float:
+        """Radius of a sphere about the centre of mass that holds every particle's sphere."""
+        offsets = self.geometry.particles - self.centre_of_mass
+        return float(np.sqrt((offsets ** 2).sum(axis=1).max())) + self.radius
+
+
+def scene_bodies(config) -> list[BodySpec]:
+    """Every body of the scene, copies expanded; raises UserError for bad meshes or placements."""
+    cache: dict = {}
+    bodies: list[BodySpec] = []
+    for entry in range(config.num_body_entries):
+        body = config.body_config(entry)
+        key = (body.mesh, body.scale, body.particles, body.grid)
+        if key not in cache:
+            cache[key] = body_geometry(body)
+        geometry = cache[key]
+        radius = body.particle_radius or spacing_radius(geometry.particles)
+        stem = _stem(body.mesh)
+        given = "orientation" in (config.bodies[entry] if config.bodies else {}) or \
+            tuple(body.orientation) != (1.0, 0.0, 0.0, 0.0)
+        rng = np.random.default_rng(config.seed + entry)
+        template = BodySpec(stem, geometry, body.particle_mass, radius, np.asarray(body.position, float),
+                            np.asarray(body.orientation, float), np.asarray(body.initial_velocity, float),
+                            np.asarray(body.initial_angular_velocity, float))
+        slots = lattice(np.asarray(body.position, float), body.count, 2.0 * template.reach * 1.02,
+                        config.wall if config.walls else None)
+        for k, slot in enumerate(slots):
+            q = template.orientation if given or body.count == 1 else random_orientation(rng)
+            name = f"{stem}_{entry}_{k}" if body.count > 1 else f"{stem}_{entry}"
+            bodies.append(BodySpec(name, geometry, body.particle_mass, radius, slot, q,
+                                   template.velocity, template.angular_velocity))
+    if len(bodies) == 1:
+        bodies[0].name = "body"
+    return bodies
+
+
+def spacing_radius(particles: np.ndarray) -> float:
+    """Half the largest nearest-neighbour distance (see the module docstring)."""
+    if len(particles) < 2:
+        return 0.0
+    from scipy.spatial import cKDTree
+
+    distances, _ = cKDTree(particles).query(particles, k=2)
+    return 0.5 * float(distances[:, 1].max())
+
+
+def lattice(first: np.ndarray, count: int, spacing: float, wall: float | None) -> list[np.ndarray]:
+    """``count`` points ``spacing`` apart: square layers centred on ``first`` (shifted to fit
+    inside x, z in [-wall, wall] if walls), stacked upward from first[1]."""
+    if count == 1:
+        return [first.copy()]
+    if wall is not None:
+        room = 2.0 * wall - spacing  # the span the centres may cover
+        if room < 0:
+            raise UserError(f"count = {count}: one copy is {spacing:.3g} m wide with its spacing, wider "
+                            f"than the box ({2 * wall:g} m); use a smaller scale or --no-walls")
+        per_side = min(int(room // spacing) + 1, _cube_side(count))
+    else:
+        per_side = _cube_side(count)
+    span = (per_side - 1) * spacing
+    centre = first[[0, 2]].copy()
+    if wall is not None:  # shift the layer so that it lies inside the walls
+        limit = wall - 0.5 * spacing - 0.5 * span
+        centre = np.clip(centre, -limit, limit)
+    points = []
+    for k in range(count):
+        layer, rest = divmod(k, per_side * per_side)
+        i, j = divmod(rest, per_side)
+        points.append(np.array([centre[0] - 0.5 * span + i * spacing, first[1] + layer * spacing,
+                                centre[1] - 0.5 * span + j * spacing]))
+    return points
+
+
+def _cube_side(count: int) -> int:
+    """Copies per side of a layer: a cube-like block (27 -> 3 x 3 x 3, 125 -> 5 x 5 x 5)."""
+    side = int(round(count ** (1.0 / 3.0)))
+    return side + 1 if side ** 3 < count else side
+
+
+def random_orientation(rng) -> np.ndarray:
+    """A uniformly random unit quaternion (normalised 4D Gaussian), scalar first."""
+    q = rng.normal(size=4)
+    return q / np.linalg.norm(q)
+
+
+def _stem(mesh: str) -> str:
+    from pathlib import Path
+
+    return Path(mesh).stem or "body"
+
+
+def world_particles(body: BodySpec) -> np.ndarray:
+    """The body's particles (N, 3) at its initial pose: x + R (p - centre of mass)."""
+    from scipy.spatial.transform import Rotation
+
+    w, x, y, z = body.orientation
+    R = Rotation.from_quat([x, y, z, w]).as_matrix()  # scipy is scalar last
+    return body.position + (body.geometry.particles - body.centre_of_mass) @ R.T
+
+
+def check_inside_box(bodies: list[BodySpec], floor: float, wall: float, use_radius: bool) -> None:
+    """Every body must start inside the box: a particle behind a wall at the start is shot out by
+    a spring compressed from the first substep (and a body wider than the box is wedged)."""
+    planes = ((1, +1.0, floor, "the floor y = {:g}"), (0, +1.0, -wall, "the wall x = -{:g}"),
+              (0, -1.0, -wall, "the wall x = +{:g}"), (2, +1.0, -wall, "the wall z = -{:g}"),
+              (2, -1.0, -wall, "the wall z = +{:g}"))
+    for index, body in enumerate(bodies):
+        points = world_particles(body)
+        pad = body.radius if use_radius else 0.0
+        lo, hi = points.min(axis=0) - pad, points.max(axis=0) + pad
+        who = "the body" if len(bodies) == 1 else f"body {index + 1} ({body.name})"
+        width = max(hi[0] - lo[0], hi[2] - lo[2])
+        if width > 2 * wall:
+            raise UserError(f"{who} is {width:.3g} m wide, wider than the box ({2 * wall:g} m); "
+                            f"use a smaller --scale, or --no-walls")
+        for axis, sign, offset, label in planes:
+            depth = offset - sign * (lo[axis] if sign > 0 else hi[axis])
+            if depth > 1e-9:
+                what = label.format(floor if axis == 1 else wall)
+                fix = ("a higher --position y" if axis == 1 else
+                       f"a position inside (|{'xyz'[axis]}| <= {wall - 0.5 * (hi[axis] - lo[axis]):.3g} "
+                       f"for this size)")
+                raise UserError(f"{who} starts {depth:.3g} m past {what}, outside the box; use {fix}, "
+                                f"a smaller --scale, or --no-walls")
