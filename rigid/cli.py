@@ -50,6 +50,10 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--particles", choices=("vertex", "volume"),
                    help="particles at the mesh vertices (default) or filling its volume")
     g.add_argument("--grid", type=int, metavar="N", help=f"volume sampling: cells along the longest side (default {d.grid})")
+    g.add_argument("--count", type=int, metavar="N", help="N copies of the body, dropped in a lattice above "
+                   "--position, colliding with each other (default 1)")
+    g.add_argument("--orientation", nargs=4, type=float, metavar=("W", "X", "Y", "Z"),
+                   help="initial orientation, a quaternion, scalar first (default 1 0 0 0)")
     g = p.add_argument_group("integration")
     g.add_argument("--dt", type=float, help=f"substep, s (default {d.dt:g}; a frame is 1/60 s)")
     g.add_argument("--integrator", choices=("euler", "symplectic", "rk4"),
@@ -69,12 +73,21 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 
+# Flags that set one body's keys: with a scene of [[body]] tables they would be ambiguous.
+BODY_FLAGS = {"mesh": "--mesh", "scale": "--scale", "position": "--position", "orientation": "--orientation",
+              "initial_velocity": "--v0", "initial_angular_velocity": "--w0", "particles": "--particles",
+              "grid": "--grid", "count": "--count"}
+
+
 def config_from_args(args: argparse.Namespace) -> SimConfig:
     values = load_scene(args.scene) if args.scene else {}
-    for key in ("mesh", "scale", "position", "initial_velocity", "initial_angular_velocity", "gravity",
-                "walls", "particles", "grid", "dt", "integrator", "fp64", "arch", "seed", "frames",
-                "resolution"):
+    for key in ("mesh", "scale", "position", "orientation", "initial_velocity", "initial_angular_velocity",
+                "gravity", "walls", "particles", "grid", "count", "dt", "integrator", "fp64", "arch", "seed",
+                "frames", "resolution"):
         value = getattr(args, key)
+        if value is not None and key in BODY_FLAGS and values.get("bodies"):
+            raise UserError(f"{BODY_FLAGS[key]} sets one body, but {args.scene} has [[body]] tables; "
+                            f"change {key} in the scene file's [[body]] tables instead")
         if value is not None:
             values[key] = tuple(value) if isinstance(value, list) else value
     if args.headless and values.get("frames") is None and not args.record:
@@ -105,9 +118,13 @@ def _run(args, units) -> int:
         check_output_path(args.record, (".mp4", ".gif"))
     if args.screenshot:
         check_output_path(args.screenshot, (".png",))
-    from .bodies.mesh import body_geometry
+    from .bodies.placement import check_inside_box, scene_bodies
 
-    geometry = body_geometry(config)  # every mesh error before the slow Taichi start-up
+    # Every mesh and placement error before the slow Taichi start-up.
+    bodies = scene_bodies(config)
+    geometry = bodies[0].geometry if not config.many_bodies else None
+    if config.walls:  # a single body pushes on its particle centres, many on their spheres
+        check_inside_box(bodies, config.floor, config.wall, use_radius=config.many_bodies)
     if units is None:
         from .engine.units import load_units
         units = load_units(Path(__file__).resolve().parent.parent / "rigid_body_dynamic.py")
@@ -116,7 +133,7 @@ def _run(args, units) -> int:
     from .engine.simulator import Simulator
 
     backend = init_taichi(config.arch, config.fp64)
-    sim = Simulator(config, units, geometry)
+    sim = Simulator(config, units, geometry, bodies if config.many_bodies else None)
     if args.record:
         from .view.video import record
         result = record(sim, args.record, config.frames or HEADLESS_FRAMES, config.resolution,
@@ -135,8 +152,14 @@ def _run(args, units) -> int:
 
 def _summary(sim, result, backend) -> None:
     snap = sim.snapshot()
+    energy = f"E = {snap['kinetic_energy'] + snap['potential_energy']:.4g} J"
+    if sim.many:
+        x = snap["x"]
+        print(f"{result.frames} frames, t = {sim.time:.3f} s on {backend} ({sim.model.num_bodies} bodies, "
+              f"{sim.model.num_particles} particles, {sim.substeps} substeps/frame): centres of mass from "
+              f"{x.min(axis=0).round(3).tolist()} to {x.max(axis=0).round(3).tolist()}, {energy}")
+        return
     print(f"{result.frames} frames, t = {sim.time:.3f} s on {backend} ({sim.model.num_particles} particles, "
-          f"{sim.substeps} substeps/frame): x = {snap['x'].round(4).tolist()}, "
-          f"E = {snap['kinetic_energy'] + snap['potential_energy']:.4g} J")
+          f"{sim.substeps} substeps/frame): x = {snap['x'].round(4).tolist()}, {energy}")
     if result.message:
         print(result.message, file=sys.stderr)

@@ -47,7 +47,9 @@ def run_frames(sim, frames: int | None, export_path=None, on_frame=None, check_e
     runs after each (e.g. draw and encode). If it returns True, the state was changed by hand
     (a reset, a kick, a new gravity) and the blow-up check measures energy from there on."""
     cfg = sim.config
-    trajectory = Trajectory(sim.model.mass, sim.model.inertia_body_np, cfg.dt, sim.substeps, cfg.fp64)
+    m = sim.model  # many bodies: mass (B,), inertia_body (B, 3, 3); one body: (), (3, 3)
+    mass, inertia = (m.body_mass_np, m.inertia_all_np) if sim.many else (m.mass, m.inertia_body_np)
+    trajectory = Trajectory(mass, inertia, cfg.dt, sim.substeps, cfg.fp64)
     row = sim.snapshot()
     trajectory.append(row)
     e0 = row["kinetic_energy"] + row["potential_energy"]
