@@ -44,6 +44,12 @@ class SceneRenderer:
         self.orbit = OrbitCamera()
         self.wireframe = False
         self._build_box(float(sim.params.floor[None]), float(sim.params.wall[None]))
+        self.vertex_colors = self.particle_colors = None
+        if getattr(sim, "many", False):  # each body its own colour (body_palette)
+            m = sim.model
+            palette = body_palette(m.num_bodies)
+            self.vertex_colors = _vec_field(palette[m.surface_body.to_numpy()[:max(m.num_surface, 1)]])
+            self.particle_colors = _vec_field(palette[m.particle_body.to_numpy()])
 
     def _build_box(self, floor: float, wall: float) -> None:
         """Floor tiles (two triangles each, own vertices so colours stay flat) and 12 box edges."""
@@ -81,9 +87,10 @@ class SceneRenderer:
             scene.lines(self.box_lines, width=2.0, color=BOX_COLOR)
         if sim.model.num_faces:
             scene.mesh(sim.state.surface_x, sim.model.indices, color=BODY_COLOR, two_sided=True,
-                       show_wireframe=self.wireframe)
+                       show_wireframe=self.wireframe, per_vertex_color=self.vertex_colors)
         else:  # a point cloud: draw the particles
-            scene.particles(sim.state.particle_x, radius=0.015, color=BODY_COLOR)
+            scene.particles(sim.state.particle_x, radius=0.015, color=BODY_COLOR,
+                            per_vertex_color=self.particle_colors)
         self.canvas.set_background_color(BACKGROUND)
         self.canvas.scene(scene)
 
@@ -111,6 +118,14 @@ def _remove_our_imgui_ini(path: Path) -> None:
 
 
 IMGUI_SECTIONS = {"[Window][Debug##Default]", f"[Window][{PANEL_TITLE}]"}
+
+
+def body_palette(num_bodies: int) -> np.ndarray:
+    """(B, 3) RGB in [0, 1]: distinct, saturated colours (golden-ratio hues), the first one orange."""
+    import colorsys
+
+    hues = (0.07 + 0.618034 * np.arange(num_bodies)) % 1.0
+    return np.array([colorsys.hsv_to_rgb(h, 0.75, 0.92) for h in hues])
 
 
 def _vec_field(array: np.ndarray):
