@@ -146,6 +146,7 @@ def _run(args, units) -> int:
     else:
         from .view.window import run_window
         result = run_window(sim, frames=config.frames, export_path=args.export, screenshot=args.screenshot)
+    print("\n".join(dict.fromkeys(b.geometry.note for b in bodies)))  # how many particles, and why
     _summary(sim, result, backend)
     return result.exit_code
 

@@ -119,8 +119,11 @@ class SimConfig:
         if self.frames is not None and (not isinstance(self.frames, int) or self.frames <= 0):
             raise UserError(f"frames = {self.frames}: use a positive number of frames, e.g. --frames 300")
         res = tuple(self.resolution)
-        if len(res) != 2 or not all(isinstance(r, int) and 16 <= r <= 8192 for r in res):
-            raise UserError(f"resolution = {self.resolution}: use two whole numbers, e.g. --resolution 1280 720")
+        if len(res) != 2 or not all(isinstance(r, int) and not isinstance(r, bool) for r in res):
+            raise UserError(f"resolution = {self.resolution}: use two whole numbers W H, e.g. --resolution 1280 720")
+        if not all(16 <= r <= 8192 for r in res):
+            raise UserError(f"resolution = {res[0]} x {res[1]} is too {'small' if min(res) < 16 else 'large'}: "
+                            f"width and height go from 16 to 8192 pixels, e.g. --resolution 1280 720")
         return self
 
 

@@ -1,9 +1,13 @@
 """Meshes in, particles out.
 
-``load_mesh`` reads OBJ, STL, PLY, OFF and GLB through trimesh and returns the
-file's own vertex positions, in file order: an OBJ with ``vt``/``vn`` lines is
-not split into one vertex per (position, uv, normal) triple, because every
-vertex is a particle of the body (the handout's sphere.obj gives 42, not 240).
+``read_mesh`` (and ``load_mesh``, its (vertices, faces) tuple) reads OBJ, STL, PLY, OFF
+and GLB (plain OBJ without trimesh, rigid.bodies.objfile) and returns the file's vertex
+positions, in file order: an OBJ with ``vt``/``vn`` lines is not split into one vertex
+per (position, uv, normal) triple, because every vertex is a particle of the body (the
+handout's sphere.obj gives 42, not 240). Vertices at the same point are merged (first
+occurrence kept, faces re-indexed): an STL stores each triangle's own three corners, and
+glTF or OBJ exporters split vertices at UV or normal seams, so without merging a box would
+weigh 36 or 24 particles instead of 8. ``Mesh.note`` says what was merged.
 """
 from __future__ import annotations
 
@@ -17,9 +21,28 @@ from ..errors import UserError
 FORMATS = (".obj", ".stl", ".ply", ".off", ".glb")
 
 
+@dataclass
+class Mesh:
+    """A mesh file read: vertices (V, 3) float64, scaled; faces (F, 3) int32 triangles; and a
+    note on what reading changed ("" if nothing), e.g. "its 12 triangles' 36 corners merged
+    into 8 vertices"."""
+
+    vertices: np.ndarray
+    faces: np.ndarray
+    note: str = ""
+
+
 def load_mesh(path: str | Path, scale: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
-    """Return (vertices (V, 3) float64, scaled; faces (F, 3) int32 triangles)."""
+    """Return (vertices (V, 3) float64, scaled; faces (F, 3) int32 triangles): ``read_mesh``."""
+    mesh = read_mesh(path, scale)
+    return mesh.vertices, mesh.faces
+
+
+def read_mesh(path: str | Path, scale: float = 1.0) -> Mesh:
+    """Read a mesh file, coincident vertices merged; every problem is a one-line UserError."""
     path = Path(path)
+    if path.is_dir():
+        raise UserError(f"mesh file {path} is a folder, not a file; {_folder_hint(path)}")
     if not path.is_file():
         raise UserError(f"mesh file {path} not found; check the path or use one from assets/ "
                         f"(e.g. --mesh assets/sphere.obj)")
@@ -40,7 +63,44 @@ def load_mesh(path: str | Path, scale: float = 1.0) -> tuple[np.ndarray, np.ndar
         raise UserError(f"mesh file {path} has non-finite vertex coordinates; repair the file")
     if len(faces) and (faces.min() < 0 or faces.max() >= len(vertices)):
         raise UserError(f"mesh file {path} has faces that index missing vertices; repair the file")
-    return vertices * float(scale), faces.astype(np.int32)
+    vertices, faces, note = merge_coincident(vertices, faces, stl=path.suffix.lower() == ".stl")
+    return Mesh(vertices * float(scale), faces.astype(np.int32), note)
+
+
+def _folder_hint(folder: Path) -> str:
+    import shlex
+
+    try:
+        meshes = sorted(p for p in folder.iterdir() if p.suffix.lower() in FORMATS and p.is_file())
+    except OSError:
+        meshes = []
+    if not meshes:
+        return f"name a mesh file ({', '.join(FORMATS)}); this folder holds none"
+    return f"name a mesh file in it, e.g. --mesh {shlex.quote(str(meshes[0]))}"
+
+
+def merge_coincident(vertices: np.ndarray, faces: np.ndarray, stl: bool = False):
+    """(vertices, faces, note): one vertex per distinct point, in order of first occurrence;
+    faces re-indexed, and those left with two corners at one point (no area) dropped."""
+    _, first, inverse = np.unique(vertices + 0.0, axis=0, return_index=True, return_inverse=True)
+    if len(first) == len(vertices):
+        return vertices, faces, ""
+    order = np.argsort(first)  # distinct points in order of first occurrence
+    rank = np.empty_like(order)
+    rank[order] = np.arange(len(order))
+    new_index = rank[np.asarray(inverse).reshape(-1)]
+    merged = new_index[faces] if len(faces) else faces
+    keep = (merged[:, 0] != merged[:, 1]) & (merged[:, 1] != merged[:, 2]) & (merged[:, 0] != merged[:, 2]) \
+        if len(faces) else np.zeros(0, bool)
+    if stl and len(vertices) == 3 * len(faces):
+        note = f"its {len(faces)} triangles' {len(vertices)} corners merged into {len(first)} vertices"
+    else:
+        note = (f"its {len(vertices)} vertices lie at {len(first)} distinct points, merged into {len(first)}"
+                if len(first) > 1 else f"its {len(vertices)} vertices lie at one point")
+    dropped = int((~keep).sum())
+    if dropped:
+        note += f"; {dropped} triangle{'s' if dropped > 1 else ''} of no area dropped"
+    return vertices[first[order]], merged[keep], note
 
 
 def _load_with_trimesh(path: Path) -> tuple[np.ndarray, np.ndarray]:
@@ -75,20 +135,30 @@ class BodyGeometry:
     particles: np.ndarray
     vertices: np.ndarray
     faces: np.ndarray
+    note: str = ""  # how many particles and why, e.g. "8 particles at the vertices of box.stl (...)"
 
 
 def body_geometry(config) -> BodyGeometry:
     """Load the config's mesh and make its particles; every input error is raised here, before Taichi."""
-    vertices, faces = load_mesh(config.mesh, config.scale)
-    particles = make_particles(vertices, faces, config.particles, config.grid)
-    check_not_degenerate(particles)
-    return BodyGeometry(np.asarray(particles, np.float64), vertices, faces)
+    mesh = read_mesh(config.mesh, config.scale)
+    particles = make_particles(mesh.vertices, mesh.faces, config.particles, config.grid)
+    check_not_degenerate(particles, mesh.note)
+    name = Path(config.mesh).name
+    if config.particles == "vertex":
+        note = f"{len(particles)} particles at the vertices of {name}" + (f" ({mesh.note})" if mesh.note else "")
+    else:
+        note = (f"{len(particles)} particles at the centres of the cells inside {name} of a grid of "
+                f"{config.grid} cells along its longest side" + (f" ({mesh.note})" if mesh.note else ""))
+    return BodyGeometry(np.asarray(particles, np.float64), mesh.vertices, mesh.faces, note)
 
 
-def check_not_degenerate(particles: np.ndarray) -> None:
-    """A body needs particles spanning a plane at least, or its I0 is singular."""
+def check_not_degenerate(particles: np.ndarray, why: str = "") -> None:
+    """A body needs particles spanning a plane at least, or its I0 is singular (``why``: the mesh's note)."""
     if len(particles) == 0:
         raise UserError("the body has no particles; use a mesh with vertices")
+    if len(particles) == 1:
+        raise UserError(f"the body has one particle{f' ({why})' if why else ''}, so the inertia tensor is "
+                        f"singular; use a mesh that spans a plane or a volume")
     centred = particles - particles.mean(axis=0)
     s = np.linalg.svd(centred, compute_uv=False) if len(particles) > 1 else np.zeros(1)
     if len(s) < 2 or s[0] == 0 or s[1] <= 1e-9 * s[0]:

@@ -1,13 +1,19 @@
-"""A reader for plain triangle OBJ files, so that start-up need not import trimesh.
+"""A reader for OBJ polygon meshes, so that start-up need not import trimesh, and so that
+relative face indices are read right.
 
-Importing trimesh costs ~0.45 s of a ~2 s start-up; the assets and the
-handout's sphere are plain OBJ: ``v x y z`` lines, triangles ``f a b c`` (each
-index optionally ``a/t/n``), and ``vt``/``vn``/``s``/comment lines. For those,
-this reader returns what trimesh returns with ``process=False,
-maintain_order=True`` (the file's vertices in file order, faces 0-based).
-Anything else (polygons, negative indices, groups, materials, odd lines)
-returns None and ``rigid.bodies.mesh.load_mesh`` hands the file to trimesh, which
-also reports garbled files.
+Importing trimesh costs ~0.45 s of a ~2 s start-up. This reader takes ``v x y z`` lines
+(optionally with a colour), faces ``f a b c ...`` of three or more corners (each ``a``,
+``a/t``, ``a//n`` or ``a/t/n``), and skips ``vt``/``vn``/``s``/``o``/``g``/``usemtl``/
+``mtllib`` and comment lines: the file's vertices in file order, one mesh, faces 0-based.
+For triangle files this is what trimesh returns with ``process=False,
+maintain_order=True``; polygons are split into a fan (a, b, c), (a, c, d), ...
+
+A negative index counts back from the last vertex defined *before the face line*
+(``f -4 -3 -2 -1`` after four ``v`` lines is those four): trimesh 5.2 counts back from the
+end of the file instead, which gives wrong faces when ``v`` and ``f`` lines interleave, and
+raises on negative ``vt``/``vn`` indices (issue 15, item 3). Anything else (curves, lines,
+points, an index of 0 or past either end, garbled numbers) returns None and
+``rigid.bodies.mesh.load_mesh`` hands the file to trimesh, which also reports garbled files.
 """
 from __future__ import annotations
 
@@ -15,11 +21,11 @@ from pathlib import Path
 
 import numpy as np
 
-SKIPPED = {"vt", "vn", "s"}
+SKIPPED = {"vt", "vn", "s", "o", "g", "usemtl", "mtllib"}
 
 
 def read_plain_obj(path: str | Path) -> tuple[np.ndarray, np.ndarray] | None:
-    """(vertices (V, 3) float64, faces (F, 3) int64) of a plain triangle OBJ, else None."""
+    """(vertices (V, 3) float64, faces (F, 3) int64 triangles) of an OBJ polygon mesh, else None."""
     try:
         lines = Path(path).read_text().splitlines()
     except (OSError, UnicodeDecodeError):
@@ -31,15 +37,32 @@ def read_plain_obj(path: str | Path) -> tuple[np.ndarray, np.ndarray] | None:
             continue
         if parts[0] == "v" and len(parts) in (4, 7):  # a position, or a position and a colour
             vertices.append(parts[1:4])
-        elif parts[0] == "f" and len(parts) == 4:
-            faces.append([p.split("/")[0] for p in parts[1:]])
+        elif parts[0] == "f" and len(parts) >= 4:
+            corners = _corners(parts[1:], len(vertices))
+            if corners is None:
+                return None
+            faces += [(corners[0], corners[i], corners[i + 1]) for i in range(1, len(corners) - 1)]
         else:
             return None
     try:
         v = np.array(vertices, dtype=np.float64).reshape(-1, 3)
-        f = np.array(faces, dtype=np.int64).reshape(-1, 3)
     except ValueError:
         return None
-    if len(v) == 0 or (len(f) and (f.min() < 1 or f.max() > len(v))):
+    f = np.array(faces, dtype=np.int64).reshape(-1, 3)
+    if len(v) == 0 or (len(f) and f.max() >= len(v)):  # a positive index past the last vertex
         return None
-    return v, f - 1
+    return v, f
+
+
+def _corners(tokens: list[str], defined: int) -> list[int] | None:
+    """0-based vertex indices of a face's corners; ``defined`` vertices precede the line."""
+    out = []
+    for token in tokens:
+        try:
+            index = int(token.split("/")[0])
+        except ValueError:
+            return None
+        if index == 0 or defined + index < 0:  # no vertex 0; nothing before the first
+            return None
+        out.append(index - 1 if index > 0 else defined + index)  # 1-based, or counted back
+    return out
