@@ -35,6 +35,8 @@ def meshes() -> dict:
         "torus": trimesh.creation.torus(major_radius=0.6, minor_radius=0.2,
                                         major_sections=64, minor_sections=64),
         "capsule": trimesh.creation.capsule(height=0.8, radius=0.25, count=(16, 16)),
+        # A domino at its real size (scale 1): thin along x, tall along y, 4 x 20 x 10 cm.
+        "domino": trimesh.creation.box(extents=(0.04, 0.2, 0.1)),
     }
 
 

@@ -3,9 +3,9 @@
 A scene without ``[[body]]`` tables is one body (the top-level keys). With them,
 each table is a body entry whose unset keys come from the top level, and
 ``count = N`` makes N copies of the entry, placed without overlap in a lattice
-whose first layer is centred on the entry's ``position``: as many per layer as
-fit inside the box (walls on) or a square layer (walls off), layers stacked
-upward. Each copy gets a seeded random orientation unless ``orientation`` is
+whose first layer is centred on the entry's ``position``: square layers as wide
+as the box allows (walls on; 125 spheres of 0.15 m make 5 x 5 x 5) or a cube of
+copies (walls off), layers stacked upward. Each copy gets a seeded random orientation unless ``orientation`` is
 given (``seed`` + entry index: the same scene gives the same pile).
 
 Collision radius between bodies (``particle_radius``, or from the spacing):
@@ -100,7 +100,7 @@ def lattice(first: np.ndarray, count: int, spacing: float, wall: float | None) -
         if room < 0:
             raise UserError(f"count = {count}: one copy is {spacing:.3g} m wide with its spacing, wider "
                             f"than the box ({2 * wall:g} m); use a smaller scale or --no-walls")
-        per_side = min(int(room // spacing) + 1, _cube_side(count))
+        per_side = min(int(room // spacing) + 1, int(np.ceil(np.sqrt(count))))  # fill the floor
     else:
         per_side = _cube_side(count)
     span = (per_side - 1) * spacing

@@ -5,7 +5,7 @@ the start of the substep, as on the slides):
   1. particles  for each particle i of body b: rᵢ = R_b r0ᵢ, pᵢ = x_b + rᵢ,
                 vᵢ = v_b + ω_b × rᵢ; put it in its grid cell (grid.py)
   2. grid       prefix sum of the cell counts, scatter, each cell in index order
-  3. forces     fᵢ = TODO 2 (m g) + walls (on the particle's sphere, contact.py)
+  3. forces     fᵢ = TODO 2 (m g) + walls (on the particle's sphere, pair_contact.py)
                 + Σ over particles j of other bodies in the 27 cells around:
                 pair_contact.py's force, and its couple moving it to the contact point
   4. bodies     F = Σ TODO 3 (fᵢ), τ = Σ TODO 4 (pᵢ, x, R, r0ᵢ, fᵢ) + Σ coupleᵢ,
@@ -25,10 +25,9 @@ import os
 
 import taichi as ti
 
-from .contact import plane_force
 from .grid import NeighbourGrid
 from .matvec import matvec
-from .pair_contact import pair_force
+from .pair_contact import pair_force, sphere_wall_force
 from .updates import make_updates
 
 # Below this many particles a CPU runs a frame on one thread (scripts/bench.py, "world crossover").
@@ -71,15 +70,15 @@ class WorldIntegrator:
             grid.insert(i, p)
 
         @ti.func
-        def walls_force(p, v, radius):
-            """The box's five planes on a particle's sphere (each plane moved in by the radius)."""
+        def walls_force(p, v, r):
+            """The box's five planes on a particle's sphere of radius r (pair_contact.py)."""
             k, kd, mu = prm.collision_stiffness[None], prm.velocity_damping_stiffness[None], prm.friction_stiffness[None]
-            floor, wall = prm.floor[None] + radius, prm.wall[None] - radius
-            f0, e0 = plane_force(p, v, ti.Vector([0.0, 1.0, 0.0]), floor, k, kd, mu)
-            f1, e1 = plane_force(p, v, ti.Vector([1.0, 0.0, 0.0]), -wall, k, kd, mu)
-            f2, e2 = plane_force(p, v, ti.Vector([-1.0, 0.0, 0.0]), -wall, k, kd, mu)
-            f3, e3 = plane_force(p, v, ti.Vector([0.0, 0.0, 1.0]), -wall, k, kd, mu)
-            f4, e4 = plane_force(p, v, ti.Vector([0.0, 0.0, -1.0]), -wall, k, kd, mu)
+            floor, wall = prm.floor[None], prm.wall[None]
+            f0, e0 = sphere_wall_force(p, v, r, ti.Vector([0.0, 1.0, 0.0]), floor, k, kd, mu)
+            f1, e1 = sphere_wall_force(p, v, r, ti.Vector([1.0, 0.0, 0.0]), -wall, k, kd, mu)
+            f2, e2 = sphere_wall_force(p, v, r, ti.Vector([-1.0, 0.0, 0.0]), -wall, k, kd, mu)
+            f3, e3 = sphere_wall_force(p, v, r, ti.Vector([0.0, 0.0, 1.0]), -wall, k, kd, mu)
+            f4, e4 = sphere_wall_force(p, v, r, ti.Vector([0.0, 0.0, -1.0]), -wall, k, kd, mu)
             return f0 + f1 + f2 + f3 + f4, e0 + e1 + e2 + e3 + e4
 
         @ti.func
