@@ -9,6 +9,12 @@ rtol 1e-12, Landau's flip period). Per integrator (euler, symplectic, rk4):
 the observed order of ω(t) and q(t) errors, the energy behaviour over 10 s,
 the angular momentum drift and the flip period; then volume sampling's
 accuracy against trimesh and its speed.
+
+validation.json and validation.md are tracked, so they hold no run-to-run noise
+(``committed_outputs``): timings go to validation_timings.json (not tracked), every
+number is rounded to 5 significant digits (on one machine the runs are bit-identical;
+another CPU, or a new summation order, changes the last digits), and a value below
+1e-12 (float64 round-off, e.g. momentum errors) is written as 0 ("< 1e-12" in the table).
 """
 from __future__ import annotations
 
@@ -25,6 +31,8 @@ import numpy as np
 
 
 SCHEMES = ("euler", "symplectic", "rk4")
+DIGITS = 5  # significant digits kept in the tracked outputs (the table shows at most 5)
+ROUND_OFF = 1e-12  # magnitudes below this (float64 round-off) are written as 0
 ORDER_DTS = {"euler": (1 / 250, 1 / 500, 1 / 1000), "symplectic": (1 / 250, 1 / 500, 1 / 1000),
              "rk4": (1 / 60, 1 / 120, 1 / 240)}
 
@@ -52,8 +60,9 @@ def integrator_runs(get) -> dict:
 
 def _bounce_summary(r: dict) -> dict:
     energy = np.asarray(r["energy"])
-    return dict(relative_change=r["relative_change"], max_rise_per_frame=float(np.diff(energy).max()),
-                start=float(energy[0]), end=float(energy[-1]))
+    rise = float(np.diff(energy).max())  # round-off of the energy itself counts as no rise
+    return dict(relative_change=r["relative_change"], start=float(energy[0]), end=float(energy[-1]),
+                max_rise_per_frame=rise if abs(rise) > ROUND_OFF * np.abs(energy).max() else 0.0)
 
 
 def _flip_summary(r: dict, dt: float) -> dict:
@@ -131,9 +140,9 @@ def summary_table(runs: dict) -> dict:
         rows.append([scheme, " ".join(f"{p:.2f}" for p in acc["omega_orders"]),
                      " ".join(f"{p:.2f}" for p in acc["q_orders"]),
                      f"{acc['omega_errors'][-1]:.2e} (Δt {acc['dts'][-1]:.2g})",
-                     f"{r['rotational_energy']['drifts'][0]:+.2e}",
+                     _tiny(r['rotational_energy']['drifts'][0], "+.2e"),
                      f"{r['free_flight']['energy_change'] / r['free_flight']['mass']:+.3g}",
-                     f"{r['angular_momentum']['L_drift']:.1e}",
+                     _tiny(r['angular_momentum']['L_drift'], ".1e"),
                      f"{flip[0]['relative_error']:+.1%} (Δt {flip[0]['dt']:.2g})"])
     return dict(header=header, rows=rows)
 
@@ -155,8 +164,8 @@ def markdown(result: dict) -> str:
     rows = []
     for scheme, r in runs.items():
         d, u = r["bounce_damped"], r["bounce_undamped"]
-        rows.append([scheme, f"{d['start']:.1f} → {d['end']:.1f}", f"{d['max_rise_per_frame']:.3g}",
-                     f"{u['start']:.1f} → {u['end']:.1f}", f"{u['max_rise_per_frame']:.3g}"])
+        rows.append([scheme, f"{d['start']:.1f} → {d['end']:.1f}", _tiny(d['max_rise_per_frame'], ".3g", "≈ 0"),
+                     f"{u['start']:.1f} → {u['end']:.1f}", _tiny(u['max_rise_per_frame'], ".3g", "≈ 0")])
     out += ["## Bouncing in the box, 10 s (sphere.obj, 42 particles, Δt = 1e-3)", "",
             table(["integrator", "E with damping+friction (J)", "max rise/frame (J)",
                    "E, no damping or friction (J)", "max rise/frame (J)"], rows), "",
@@ -184,9 +193,46 @@ def markdown(result: dict) -> str:
             for a in samp["accuracy"]]
     out += ["## Volume sampling against trimesh's solids", "",
             table(["mesh", "grid", "particles", "I0/M error", "centre of mass error (cells)"], rows), "",
-            table(["mesh", "grid", "particles", "seconds (best of 3)"],
-                  [[s["mesh"], s["grid"], s["particles"], s["seconds"]] for s in samp["speed"]]), ""]
+            table(["mesh", "grid", "particles"], [[s["mesh"], s["grid"], s["particles"]] for s in samp["speed"]]), "",
+            "Sampling times (best of 3) and the runs' durations are this machine's: they go to "
+            "validation_timings.json, which is not tracked.", ""]
     return "\n".join(out)
+
+
+def _tiny(x: float, spec: str, zero: str = f"< {ROUND_OFF:.0e}") -> str:
+    """A number as ``spec``, or ``zero`` where it was rounded to 0 (below float64 round-off)."""
+    return zero if x == 0 else format(x, spec)
+
+
+def committed_outputs(result: dict) -> tuple[str, str, str]:
+    """(validation.json, validation.md, validation_timings.json) texts for a run's result: every
+    timing apart, every other number to DIGITS significant digits and 0 below ROUND_OFF, so two
+    runs (or two machines) give the same tracked files."""
+    timings: dict = {}
+
+    def clean(value, path):
+        if isinstance(value, dict):
+            out = {}
+            for key, item in value.items():
+                if key == "seconds":
+                    timings[path + key] = item
+                else:
+                    out[key] = clean(item, f"{path}{key}.")
+            return out
+        if isinstance(value, (list, tuple)):
+            return [clean(item, f"{path}{i}.") for i, item in enumerate(value)]
+        if isinstance(value, (float, np.floating)):
+            return 0.0 if abs(value) < ROUND_OFF else float(f"{float(value):.{DIGITS}g}")
+        return value
+
+    stable = clean(result, "")
+    stable["table"] = summary_table(stable["integrators"])
+    stable["convergence"] = {s: dict(dts=r["accuracy"]["dts"], errors=r["accuracy"]["omega_errors"])
+                             for s, r in stable["integrators"].items()}
+    stable["precision"] = dict(significant_digits=DIGITS, zero_below=ROUND_OFF,
+                               timings="validation_timings.json (not tracked)")
+    return (json.dumps(stable, indent=1, default=float) + "\n", markdown(stable) + "\n",
+            json.dumps(timings, indent=1) + "\n")
 
 
 def main(argv=None) -> int:
@@ -212,19 +258,16 @@ def main(argv=None) -> int:
     f32 = float32_runs()
     print("volume sampling ...", file=sys.stderr)
     result = dict(integrators=runs, float32=f32, sampling=sampling_runs())
-    result["table"] = summary_table(runs)
-    result["convergence"] = {s: dict(dts=r["accuracy"]["dts"], errors=r["accuracy"]["omega_errors"])
-                             for s, r in runs.items()}
     result["seconds"] = round(time.perf_counter() - start, 1)
-    text = markdown(result)
-    print(text)
+    texts = committed_outputs(result)
+    print(texts[1])
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    for name, content in (("validation.json", json.dumps(result, indent=1, default=float)),
-                          ("validation.md", text + "\n")):
+    for name, content in zip(("validation.json", "validation.md", "validation_timings.json"), texts):
         with atomic_output(out / name) as tmp:
             tmp.write_text(content)
-    print(f"wrote {out / 'validation.json'} and {out / 'validation.md'} ({result['seconds']} s)", file=sys.stderr)
+    print(f"wrote {out / 'validation.json'} and {out / 'validation.md'} ({result['seconds']} s; "
+          f"timings in {out / 'validation_timings.json'})", file=sys.stderr)
     return 0
 
 
