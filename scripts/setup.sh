@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
 # Install what a fresh Debian/Ubuntu machine lacks: a software Vulkan (Mesa lavapipe) and Xvfb for
-# GGUI without a GPU or a display, then this package with its test tools.
+# GGUI without a GPU or a display, poppler-utils (pdffonts: the report test checks its fonts are
+# embedded), then this package with its test tools.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export DEBIAN_FRONTEND=noninteractive
 if command -v apt-get >/dev/null 2>&1; then
   need=""
-  for pkg in mesa-vulkan-drivers libvulkan1 xvfb xauth; do
+  for pkg in mesa-vulkan-drivers libvulkan1 xvfb xauth poppler-utils; do
     dpkg -s "$pkg" >/dev/null 2>&1 || need="$need $pkg"
   done
   if [ -n "$need" ]; then

@@ -1,7 +1,10 @@
 """A tiny document model written two ways: Markdown (report.md) and PDF (report.pdf).
 
 The report's text is written once, as blocks; reportlab lays out the PDF
-(``invariant=1``: the same blocks give the same bytes, no timestamps).
+(``invariant=1``: the same blocks give the same bytes, no timestamps). The PDF's text is
+set in DejaVu Sans (and Sans Mono for code), the TTFs matplotlib ships, embedded as
+subsets: the 14 standard PDF fonts are not embedded and have no glyphs for ⁻, ᵀ or ‖,
+which viewers drew as black boxes (issue 15, item 10).
 """
 from __future__ import annotations
 
@@ -58,6 +61,7 @@ class Doc:
         from reportlab.platypus import Image, Paragraph, SimpleDocTemplate, Spacer, Table, TableStyle
 
         styles = getSampleStyleSheet()
+        _use_embedded_fonts(styles)
         small = styles["BodyText"].clone("small", fontSize=7.5, leading=9)
         story = []
         for block in self.blocks:
@@ -72,7 +76,8 @@ class Doc:
             elif kind == "table":
                 data = [[Paragraph(_inline(c), small) for c in row] for row in [block[1], *block[2]]]
                 table = Table(data, repeatRows=1)
-                table.setStyle(TableStyle([("GRID", (0, 0), (-1, -1), 0.3, colors.grey),
+                table.setStyle(TableStyle([("FONTNAME", (0, 0), (-1, -1), FONTS["Helvetica"][0]),
+                                           ("GRID", (0, 0), (-1, -1), 0.3, colors.grey),
                                            ("BACKGROUND", (0, 0), (-1, 0), colors.whitesmoke),
                                            ("VALIGN", (0, 0), (-1, -1), "TOP")]))
                 story += [table, Spacer(1, 0.3 * cm)]
@@ -85,8 +90,38 @@ class Doc:
                 story += [Image(str(block[1]), width=width, height=width * h / w),
                           Paragraph(f"<i>{_inline(block[2])}</i>", small), Spacer(1, 0.3 * cm)]
         SimpleDocTemplate(str(path), pagesize=A4, invariant=1, title="Assignment 3 report",
+                          initialFontName=FONTS["Helvetica"][0],  # else the page resources list Helvetica
                           leftMargin=2 * cm, rightMargin=2 * cm, topMargin=1.8 * cm,
                           bottomMargin=1.8 * cm).build(story)
+
+
+# reportlab's standard fonts -> the embedded TTFs that replace them (file names in matplotlib's fonts/ttf).
+FONTS = {"Helvetica": ("DejaVuSans", "DejaVuSans.ttf"),
+         "Helvetica-Bold": ("DejaVuSans-Bold", "DejaVuSans-Bold.ttf"),
+         "Helvetica-Oblique": ("DejaVuSans-Oblique", "DejaVuSans-Oblique.ttf"),
+         "Helvetica-BoldOblique": ("DejaVuSans-BoldOblique", "DejaVuSans-BoldOblique.ttf"),
+         "Courier": ("DejaVuSansMono", "DejaVuSansMono.ttf")}
+MONO = FONTS["Courier"][0]
+
+
+def _use_embedded_fonts(styles) -> None:
+    """Register the DejaVu TTFs (once) and set every style's font to them."""
+    import matplotlib
+    from reportlab.pdfbase import pdfmetrics
+    from reportlab.pdfbase.ttfonts import TTFont
+
+    folder = Path(matplotlib.get_data_path()) / "fonts" / "ttf"
+    for name, file in FONTS.values():
+        if name not in pdfmetrics.getRegisteredFontNames():
+            pdfmetrics.registerFont(TTFont(name, str(folder / file)))
+    pdfmetrics.registerFontFamily(FONTS["Helvetica"][0], normal=FONTS["Helvetica"][0],
+                                  bold=FONTS["Helvetica-Bold"][0], italic=FONTS["Helvetica-Oblique"][0],
+                                  boldItalic=FONTS["Helvetica-BoldOblique"][0])
+    for style in styles.byName.values():
+        for attribute in ("fontName", "bulletFontName"):
+            font = getattr(style, attribute, None)
+            if font in FONTS:
+                setattr(style, attribute, FONTS[font][0])
 
 
 def _inline(text: str) -> str:
@@ -95,4 +130,4 @@ def _inline(text: str) -> str:
 
     text = html.escape(text, quote=False)
     text = re.sub(r"\*\*(.+?)\*\*", r"<b>\1</b>", text)
-    return re.sub(r"`(.+?)`", r"<font face='Courier'>\1</font>", text)
+    return re.sub(r"`(.+?)`", rf"<font face='{MONO}'>\1</font>", text)
