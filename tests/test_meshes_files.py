@@ -1,9 +1,10 @@
 """Mesh files read right (issue 15, items 3, 4): OBJ relative indices, coincident vertices
-merged (an STL box is 8 particles, like the OBJ box), and the note that says so."""
+merged (an STL box is 8 particles, like the OBJ box), and the note that says so (the CLI prints
+it before the summary: tests/test_smoke.py)."""
 import numpy as np
 import pytest
 
-from conftest import ASSETS, ROOT, run_cli
+from conftest import ASSETS, ROOT
 
 DATA = ROOT / "tests" / "data"
 
@@ -79,10 +80,3 @@ def test_seams_merged_in_any_format_and_file_order_kept(tmp_path):
     sphere = read_mesh(ASSETS / "sphere.obj")
     assert sphere.note == "" and len(sphere.vertices) == 42
 
-
-def test_cli_prints_the_particle_note_with_the_summary():
-    proc = run_cli("--headless", "--frames", 1, "--mesh", DATA / "box.stl", "--scale", 0.5)
-    assert proc.returncode == 0, proc.stderr
-    lines = proc.stdout.splitlines()
-    assert lines[-2] == "8 particles at the vertices of box.stl (its 12 triangles' 36 corners merged into 8 vertices)"
-    assert lines[-1].startswith("1 frames, t = ") and "(8 particles" in lines[-1]
