@@ -79,4 +79,3 @@ def test_seams_merged_in_any_format_and_file_order_kept(tmp_path):
     assert note.endswith("; 1 triangle of no area dropped") and f.tolist() == [[0, 1, 2]] and len(v) == 3
     sphere = read_mesh(ASSETS / "sphere.obj")
     assert sphere.note == "" and len(sphere.vertices) == 42
-
