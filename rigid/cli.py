@@ -65,7 +65,10 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--frames", type=int, metavar="N", help="frames to simulate (window: until closed; "
                    f"headless: default {HEADLESS_FRAMES})")
     g.add_argument("--headless", action="store_true", help="no window: simulate, print a summary")
-    g.add_argument("--export", metavar="OUT.npz", help="write the trajectory, one row per frame")
+    g.add_argument("--export", metavar="OUT", action="append",
+                   help="write the motion, one row/key per frame; the suffix picks the format: .npz "
+                        "(the trajectory), .glb/.gltf (animated glTF 2.0), .usd/.usda/.usdc (USD, needs "
+                        "usd-core); give it several times for several files")
     g.add_argument("--record", metavar="OUT.mp4|.gif", help="render offscreen into a video (no display needed)")
     g.add_argument("--resolution", nargs=2, type=int, metavar=("W", "H"), help="video size (default 1280 720)")
     g.add_argument("--screenshot", metavar="OUT.png", help="save the last frame as a PNG")
@@ -113,7 +116,8 @@ def _run(args, units) -> int:
 
     config = config_from_args(args)
     if args.export:
-        check_output_path(args.export, (".npz",))
+        from .run.exports import check_exports
+        check_exports(args.export)
     if args.record:
         check_output_path(args.record, (".mp4", ".gif"))
     if args.screenshot:

@@ -7,10 +7,10 @@ stop: whatever happens, the frames simulated so far are saved.
 from __future__ import annotations
 
 import itertools
-import sys
 from dataclasses import dataclass
 
 from .diagnostics import Trajectory, blow_up, stability_hint
+from .exports import write_exports
 
 
 
@@ -76,9 +76,8 @@ def run_frames(sim, frames: int | None, export_path=None, on_frame=None, check_e
         pass
     except KeyboardInterrupt:
         result = RunResult(result.frames, "interrupted", f"interrupted after {result.frames} frames")
-    if export_path is not None:
-        trajectory.save(export_path)
-        print(f"wrote {export_path} ({len(trajectory.rows)} rows)", file=sys.stderr)
+    if export_path:  # one path or a list (--export given several times); the suffix picks the format
+        write_exports(export_path, trajectory, sim)
     return result
 
 
