@@ -81,6 +81,8 @@ def test_issue_case_names_the_damping():
     (dict(integrator="rk4"), ["dt < 0.00281 s", "normal damping limits it"]),
     (dict(dt=1e-3), ["try a smaller --dt (now 0.001): it is within the 0.00202 s"]),
     (dict(collision_stiffness=0.0, velocity_damping_stiffness=0.0), ["try a smaller --dt (now 0.015)"]),
+    (dict(count=2), ["a contact between two bodies' particles stable", "for dt < 0.00101 s",
+                     "m = particle_mass/2 = 0.5"]),  # many bodies: the pair's reduced mass
 ])
 def test_hint_per_regime(changes, words):
     from rigid.config import SimConfig

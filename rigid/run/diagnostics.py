@@ -69,9 +69,10 @@ def blow_up(row: dict, initial_energy: float, energy_bound: float) -> str | None
 def stability_hint(config) -> str:
     """The likely fix: the integrator's stability bound for one particle's wall contact
     (spring and damper together, rigid.run.stability), naming the term that limits it.
-    With several bodies the lightest particle sets the bound."""
+    With several bodies the lightest particle sets the bound, for a contact between two of them."""
     from .stability import stability_message
 
     masses = [body.get("particle_mass", config.particle_mass) for body in getattr(config, "bodies", ())]
     return stability_message(config.dt, config.collision_stiffness, config.velocity_damping_stiffness,
-                             min(masses or [config.particle_mass]), config.integrator)
+                             min(masses or [config.particle_mass]), config.integrator,
+                             pairs=bool(getattr(config, "many_bodies", False)))
