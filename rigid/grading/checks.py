@@ -46,6 +46,16 @@ def check_direct(spec, unit, expected: dict) -> dict:
     except Exception as err:  # a compile error of the student's code: any Taichi or Python exception
         return dict(passed=False, message=f"TODO {k}: {spec.unit} does not compile or run: {explain(err)} "
                                           f"(it must return {returns(spec)})")
+    return judge(spec, sub, inputs, expected,
+                 not_done=f"{spec.unit} still returns the handout's placeholder (zero or unchanged values)")
+
+
+def judge(spec, sub: dict, inputs: dict, expected: dict, not_done: str) -> dict:
+    """Compare outputs ``sub`` (name -> (K, ...)) with each accepted form of the reference's answers.
+
+    Shared by both formats; ``not_done`` ends the message of untouched code (zero or unchanged outputs).
+    """
+    k = spec.number
     for form, ref in expected.items():
         if all(close(sub[name], ref[name]) for name, *_ in spec.outputs):
             worst = max(error(sub[name], ref[name]) for name, *_ in spec.outputs)
@@ -54,8 +64,7 @@ def check_direct(spec, unit, expected: dict) -> dict:
                         message=f"TODO {k}: right on {len(sub[spec.outputs[0][0]])} random calls "
                                 f"(to {worst:.0e}{note})")
     if is_placeholder(spec, sub, inputs):
-        return dict(passed=False, message=f"TODO {k}: not done — {spec.unit} still returns the handout's "
-                                          f"placeholder (zero or unchanged values)")
+        return dict(passed=False, message=f"TODO {k}: not done — {not_done}")
     ref = min(expected.values(), key=lambda e: sum(error(sub[n], e[n]) for n, *_ in spec.outputs))
     problems = [diagnose_output(spec, name, sub[name], ref[name], inputs, sub)
                 for name, *_ in spec.outputs if not close(sub[name], ref[name])]

@@ -3,6 +3,7 @@
     python -m rigid.grading.child --submission FILE --events FILE --reference FILE --expected FILE.npz
         [--memory-mb N] [--file-mb N] [--todos 1,2,...] [--per-todo-trajectories]
     python -m rigid.grading.child --make-expected FILE.npz --events FILE --reference FILE
+    ... --format original [--renames JSON]    a file in the course's original handout format (original/)
 
 Started by sandbox.py with cwd and HOME in a temporary folder. Resource limits
 are set first, before numpy, Taichi or the submission load. Results go as JSON
@@ -14,6 +15,7 @@ a print can never be mistaken for a result:
     {"event": "import_failed", "message": ...}
     {"event": "direct", "todo": k, "passed": bool, "message": ..., "form": ...}
     {"event": "trajectory", "todos": [...], "passed": bool, "message": ...}
+    {"event": "note", "message": ...}                      something the TA should know (original format)
     {"event": "done"}
 
 If the process dies or hangs, the parent reads the last stage begun and blames it.
@@ -83,12 +85,24 @@ def main(argv=None):
     p.add_argument("--file-mb", type=int, default=64)
     p.add_argument("--todos", default="1,2,3,4,5,6,7")
     p.add_argument("--per-todo-trajectories", action="store_true")
+    p.add_argument("--format", choices=("project", "original"), default="project",
+                   help="project: the TODO functions of rigid_body_dynamic.py; original: the course's "
+                        "module-level script (original/)")
+    p.add_argument("--renames", default="{}", metavar="JSON",
+                   help="original format: {quoted path in the file: path to read instead} (meshes)")
     args = p.parse_args(argv)
     apply_limits(args.memory_mb, args.file_mb)
     events = Events(args.events)
     todos = [int(k) for k in args.todos.split(",") if k]
     if args.make_expected:
         make_expected(events, args.reference, args.make_expected)
+    if args.format == "original":
+        from .expected import Expected
+        from .original.child import grade
+
+        grade(events, args.submission, Expected(args.expected), todos, args.per_todo_trajectories,
+              json.loads(args.renames))
+        finish(events)
 
     events.emit(phase="import")
     from .loader import import_submission

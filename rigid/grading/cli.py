@@ -22,6 +22,7 @@ def build_parser() -> argparse.ArgumentParser:
         prog="grade.py", description="Grade Assignment 3 submissions TODO by TODO, each in its own sandboxed "
                                      "process.",
         epilog="examples:\n  python scripts/grade.py submissions/ --csv grades.csv --json grades.json\n"
+               "  python scripts/grade.py course_submissions/ --format original --jobs 4\n"
                "  python scripts/grade.py 3035_alice_assignment3.zip bob.py --points 20,10,10,10,10,15,15",
         formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("paths", nargs="+", metavar="PATH", help=".py files, .zip files, or folders of them")
@@ -39,6 +40,11 @@ def build_parser() -> argparse.ArgumentParser:
                         f"Taichi's LLVM alone needs ~1800)")
     p.add_argument("--reference", default=str(REPO_ROOT / "rigid_body_dynamic.py"), metavar="FILE",
                    help="the solution to grade against (default: the repository's rigid_body_dynamic.py)")
+    p.add_argument("--format", choices=("auto", "project", "original"), default="auto",
+                   help="the handout the submissions were written for: project (the TODO functions of this "
+                        "repository's rigid_body_dynamic.py), original (the course's module-level script with "
+                        "global fields and kernels initial() and substep()), or auto: detect it per submission "
+                        "(default)")
     p.add_argument("--cache-dir", metavar="DIR", help="where the reference's answers and compiled kernels "
                                                       "are kept (default ~/.cache/rigid-body-taichi/grader)")
     return p
@@ -94,6 +100,7 @@ def _run(args) -> int:
     cache_root = Path(args.cache_dir) if args.cache_dir else default_cache_root()
     settings = prepare(reference, limits, cache_root, log=lambda m: print(m, file=sys.stderr))
     settings.points = points
+    settings.format = args.format
     print(report.points_line(points))
     n = len(submissions)
 

@@ -6,15 +6,21 @@ points with the reason, and a fresh child grades the TODOs that remain, so a
 TODO that loops forever costs that TODO only. A failure at import costs every
 TODO (nothing can be graded without the file). The result follows DESIGN's
 contract: {"submission", "total", "max_total", "todos": {"1": {"passed",
-"points", "max", "message"}, ...}} plus "seconds" and "output" (the child's
-captured stdout and stderr, truncated).
+"points", "max", "message"}, ...}} plus "seconds", "output" (the child's
+captured stdout and stderr, truncated), "format" ("project" or "original",
+detected per submission unless Settings.format forces it) and "notes" (what the
+TA should know: a mesh the submission lacks, a perturbation that could not be
+applied, ti.init called twice).
 """
+import json
 import shutil
 import signal
 import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from .original.detect import detect
+from .original.meshes import plan
 from .sandbox import Limits, run_child
 from .specs import TODOS
 
@@ -28,24 +34,35 @@ class Settings:
     warm_cache: Path | None  # a Taichi offline cache to start each child from (copied, never shared)
     points: dict = field(default_factory=lambda: {k: t.points for k, t in TODOS.items()})
     limits: Limits = field(default_factory=Limits)
+    format: str = "auto"  # "project", "original" (the course's handout), or "auto": detect per submission
 
 
 def grade_submission(name: str, source: bytes | None, settings: Settings, problem: str = "",
-                     cache_out: Path | None = None) -> dict:
+                     cache_out: Path | None = None, meshes: dict | None = None) -> dict:
     """Grade the file content ``source``; ``problem`` (no source) fails every TODO with that reason.
 
     ``cache_out``: copy the child's Taichi cache there afterwards (only for trusted code: the warm-up).
+    ``meshes``: mesh files of the submission by name (a file in the original format may read one).
     """
     todos = {k: None for k in TODOS}  # k -> (passed, message) once decided
-    seconds, output = 0.0, ""
+    seconds, output, notes = 0.0, "", []
     if source is None:
         for k in todos:
             todos[k] = (False, f"TODO {k}: not graded — {problem}")
         return _result(name, todos, settings, seconds, output)
+    text = source.decode("utf-8", errors="replace")
+    fmt = settings.format if settings.format != "auto" else detect(text)
     with tempfile.TemporaryDirectory(prefix="rigid-grade-") as tmp:
         box = Path(tmp) / "box"
         box.mkdir()
         (box / "rigid_body_dynamic.py").write_bytes(source)
+        extra = []
+        if fmt == "original":
+            files, renames, notes = plan(text, meshes)
+            for relative, data in files.items():
+                (box / relative).parent.mkdir(parents=True, exist_ok=True)
+                (box / relative).write_bytes(data)
+            extra = ["--format", "original", f"--renames={json.dumps(renames)}"]
         if settings.warm_cache and settings.warm_cache.is_dir():
             shutil.copytree(settings.warm_cache, box / ".taichi-cache")
         per_todo = False
@@ -54,23 +71,24 @@ def grade_submission(name: str, source: bytes | None, settings: Settings, proble
             if not remaining:
                 break
             args = ["--submission", box / "rigid_body_dynamic.py", "--reference", settings.reference,
-                    "--expected", settings.expected, "--todos", ",".join(map(str, remaining))]
+                    "--expected", settings.expected, "--todos", ",".join(map(str, remaining)), *extra]
             run = run_child(args + (["--per-todo-trajectories"] if per_todo else []), box,
                             Path(tmp) / f"events{attempt}.jsonl", settings.limits)
             seconds += run.seconds
             output = "".join(line for line in run.output.splitlines(keepends=True)
                              if not line.startswith("[Taichi] Starting on arch"))
-            decided, per_todo = _interpret(run, remaining, settings.limits, per_todo)
+            notes += [e["message"] for e in run.events if e.get("event") == "note" and e["message"] not in notes]
+            decided, per_todo = _interpret(run, remaining, settings.limits, per_todo, fmt)
             todos.update(decided)
         if cache_out is not None and (box / ".taichi-cache").is_dir():
             shutil.copytree(box / ".taichi-cache", cache_out, dirs_exist_ok=True)
         for k, v in todos.items():
             if v is None:
                 todos[k] = (False, f"TODO {k}: not graded — the submission crashed the grader too often")
-    return _result(name, todos, settings, seconds, output)
+    return _result(name, todos, settings, seconds, output, fmt, notes)
 
 
-def _interpret(run, remaining, limits, per_todo):
+def _interpret(run, remaining, limits, per_todo, fmt="project"):
     """(decided TODOs {k: (passed, message)}, per_todo flag for the next child) from one child run."""
     decided = {}
     direct = {e["todo"]: e for e in run.events if e.get("event") == "direct"}
@@ -106,8 +124,8 @@ def _interpret(run, remaining, limits, per_todo):
                 for k in remaining}, per_todo
     if stage["phase"] == "direct":
         k = stage["todo"]
-        decided[k] = (False, f"TODO {k}: {TODOS[k].unit} {why}; the other TODOs were graded in a "
-                             f"fresh process")
+        who = TODOS[k].unit if fmt == "project" else f"the code under '# TODO {k}:'"
+        decided[k] = (False, f"TODO {k}: {who} {why}; the other TODOs were graded in a fresh process")
         return decided, per_todo
     culprits = stage.get("todos", [])
     if len(culprits) == 1:
@@ -136,7 +154,7 @@ def stop_reason(run, limits) -> str:
     return f"ended the grading process early (exit code {rc}: os._exit or a fatal error)"
 
 
-def _result(name, todos, settings, seconds, output) -> dict:
+def _result(name, todos, settings, seconds, output, fmt="project", notes=()) -> dict:
     out = {}
     for k, (passed, message) in todos.items():
         max_points = float(settings.points[k])
@@ -144,4 +162,4 @@ def _result(name, todos, settings, seconds, output) -> dict:
                            message=message)
     total = sum(v["points"] for v in out.values())
     return dict(submission=name, total=total, max_total=float(sum(settings.points.values())), todos=out,
-                seconds=round(seconds, 2), output=output)
+                seconds=round(seconds, 2), output=output, format=fmt, notes=list(notes))

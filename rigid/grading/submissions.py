@@ -15,6 +15,8 @@ from ..errors import UserError
 
 FILE_NAME = "rigid_body_dynamic.py"
 MAX_BYTES = 2 << 20  # a submission file larger than 2 MB is not an assignment file
+MAX_MESH_BYTES = 16 << 20  # a mesh beside it (original handout format) up to 16 MB
+MESH_SUFFIXES = (".obj", ".ply", ".stl", ".off")
 ZIP_NAME = re.compile(r"^(?P<uid>[^_]+)_(?P<name>.+)_assignment3$", re.IGNORECASE)
 
 
@@ -40,6 +42,27 @@ class Submission:
             return _from_zip(self.path)
         except OSError as err:
             return None, f"cannot read {self.path}: {err.strerror or err}"
+
+
+    def meshes(self) -> dict:
+        """Mesh files in the submission's zip or folder, by file name (what a file of the original
+        handout's format may read); {} for a single .py file or when they cannot be read."""
+        found = {}
+        try:
+            if self.kind == "folder":
+                for p in sorted(self.path.rglob("*")):
+                    if p.suffix.lower() in MESH_SUFFIXES and p.is_file() and p.stat().st_size <= MAX_MESH_BYTES:
+                        found.setdefault(p.name, p.read_bytes())
+            elif self.kind == "zip":
+                with zipfile.ZipFile(self.path) as z:
+                    for i in z.infolist():
+                        name = PurePosixPath(i.filename)
+                        if (name.suffix.lower() in MESH_SUFFIXES and "__MACOSX" not in name.parts
+                                and i.file_size <= MAX_MESH_BYTES):
+                            found.setdefault(name.name, z.read(i))
+        except (OSError, zipfile.BadZipFile, zipfile.LargeZipFile, NotImplementedError, RuntimeError):
+            return {}
+        return found
 
 
 def _checked(data: bytes, where: str) -> tuple:

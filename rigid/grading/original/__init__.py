@@ -1,0 +1,21 @@
+"""Grading files in the format of the course's original handout (one module-level script).
+
+Such a file calls ``ti.init`` at import, keeps the body in global fields
+(``body_cm_position``, ``particle_force``, ...), has kernels ``initial()`` and
+``substep()`` whose TODOs are marked only by ``# TODO k: title`` (no END
+marker), and runs a GGUI ``while window.running:`` loop at module level.
+
+- detect.py     which format a submission is in
+- regions.py    where each TODO's code starts and ends, its kernel, loop and shared local names
+- reference.py  the project's reference lines for each TODO, written for the handout's names
+- variants.py   the file with some regions replaced, other parameters, the grader's harness kernels
+- harness.py    each region alone in a kernel, called on the seeded inputs of specs.py (the direct check)
+- headless.py   stand-ins for ti.init, ti.ui and ti.GUI: no window, N frames, a snapshot per frame
+- runner.py     import a variant under the stand-ins and return its trajectory
+- attribution.py  per-TODO trajectory runs (joint, then halves) with the file's and perturbed parameters
+- child.py      the sandboxed child's work for this format (same events as ../child.py)
+- meshes.py     which mesh files a submission reads, and what the sandbox gets in their place
+
+Runs inside the grading child, like ../checks.py. May import what rigid.grading may import
+(the base modules, ``bodies``, ``engine``, ``run``) and the rest of ``rigid.grading``.
+"""

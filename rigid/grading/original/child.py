@@ -1,0 +1,104 @@
+"""Inside the sandboxed child: grade one file in the original handout's format.
+
+Same events as ../child.py, so the parent (../grade_submission.py) restarts and
+blames the same way: "import" covers reading the TODO regions and running the
+file once with the reference lines in every TODO (plus the harness kernels);
+its failure is the code outside the TODOs, and costs every TODO. Then
+"direct" per TODO (harness.py: the region alone on seeded inputs, judged by
+checks.judge against the reference's answers) and "trajectory" per group
+(attribution.py). Notes (a mesh replaced, a perturbation that could not be
+applied, a file without a window loop, ti.init called twice) go as
+{"event": "note", "message": ...}.
+"""
+from pathlib import Path
+
+from ..checks import judge
+from . import harness
+from .attribution import Attribution, check_simulations
+from .regions import RegionError, find_regions
+from .runner import describe, run
+from .variants import build, module_values, perturbed
+
+
+def init_taichi():
+    """One runtime for every version of the file: the file's own ti.init calls are ignored (headless.py).
+
+    Float32 by default and no debug checks, as the file would run; one CPU thread, so sums of
+    float atomics come out the same in every run.
+    """
+    import contextlib
+    import sys
+
+    import taichi as ti
+
+    from . import headless
+
+    with contextlib.redirect_stdout(sys.stderr):
+        ti.init(arch=ti.cpu, default_fp=ti.f32, debug=False, log_level=ti.ERROR, offline_cache=True,
+                random_seed=0, cpu_max_num_threads=1)
+    headless.install(ti)
+
+
+def perturbed_label(params: dict) -> str:
+    parts = [f"{name} {params[name]:g}" for name in ("particle_mass", "dt") if name in params]
+    if any(name in params for name in ("initial_velocity", "initial_angular_velocity")):
+        parts.append("a throw with a spin")
+    return ", ".join(parts)
+
+
+def grade(events, path, expected, todos, per_todo=False, renames=None):
+    """Grade the file at ``path`` (the box is its folder); ``expected``: an expected.Expected."""
+    events.emit(phase="import")
+    path = Path(path)
+    text = path.read_text(encoding="utf-8", errors="replace")
+    try:
+        regions = find_regions(text)
+    except RegionError as err:
+        events.emit(event="import_failed", message=str(err))
+        return
+    init_taichi()
+    folder = path.parent / "_grader"
+    folder.mkdir(exist_ok=True)
+    fields = set(module_values(text))
+    lines = text.splitlines()
+    extra = [line for k in todos for line in harness.kernel(k, regions, lines, fields)]
+    variant = build(text, regions, (), extra=extra, renames=renames)
+    first = run(variant, folder / "reference_harness.py")
+    for note in first.notes:
+        events.emit(event="note", message=note)
+    if first.rows is None:
+        events.emit(event="import_failed", message=f"the file does not run even with the reference code in its "
+                                                   f"TODOs: {first.error}")
+        return
+    events.emit(phase="setup")
+    particles = int(first.module.particle_vertices.shape[0])
+    results = {}
+    for k in todos:
+        events.emit(phase="direct", todo=k)
+        results[k] = _direct(k, regions[k], lines, text, first.module, variant, folder, particles, expected)
+        events.emit(event="direct", todo=k, **results[k])
+    params, notes = perturbed(text)
+    for note in notes:
+        events.emit(event="note", message=note)
+    sets = [("the file's parameters", None)] + ([(perturbed_label(params), params)] if params else [])
+    form = results.get(5, {}).get("form", "position-first")
+    attribution = Attribution(text, regions, folder, form, sets,
+                              first.rows if form == "position-first" else None, renames)
+    check_simulations(events, attribution, results, per_todo)
+
+
+def _direct(k, region, lines, text, module, variant, folder, particles, expected) -> dict:
+    where = f"the code under '# TODO {k}:'"
+    blocked = harness.blocked_by(text, region.code(lines))
+    if blocked:
+        return dict(passed=True, simulation_only=True,
+                    message=f"TODO {k}: checked by simulation only ({where} reads {blocked}, which is computed "
+                            f"from dt, the mass or gravity, so single calls cannot vary them)")
+    try:
+        spec, inputs, sub = harness.evaluate(k, module, particles)
+    except Exception as err:  # a compile error in the student's region
+        return dict(passed=False, message=f"TODO {k}: {where} does not compile or run: "
+                                          f"{describe(err, variant, folder / 'reference_harness.py')}")
+    return judge(spec, sub, inputs, expected.direct(k),
+                 not_done=f"{where} leaves its result zero or unchanged")
+

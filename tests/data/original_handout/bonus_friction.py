@@ -1,0 +1,200 @@
+# Rigid body simulation, Assignment 3 (a test fixture in the format of the course's original
+# handout: one script, global fields, kernels initial() and substep(), a window loop at the bottom).
+# Written for the grader's tests from the description in issue 14: solved, with other parameters, its
+# own mesh (not submitted), its own names for the total force, velocity-first TODO 5, and bonus
+# damping and friction in the collision code (outside the TODOs).
+import numpy as np
+import taichi as ti
+
+ti.init(arch=ti.cpu, debug=True)
+
+
+def read_obj_file(file_path, scale=1.0):
+    vertices = []
+    with open(file_path, "r") as f:
+        for line in f:
+            parts = line.split()
+            if len(parts) >= 4 and parts[0] == "v":
+                vertices.append([float(parts[1]) * scale, float(parts[2]) * scale, float(parts[3]) * scale])
+    return np.array(vertices, dtype=np.float32)
+
+
+# parameters of the simulation
+particle_mass = 2
+initial_velocity = ti.Vector([1.0, 0.0, 0.5])
+initial_angular_velocity = ti.Vector([0.0, 2.0, 0.0])
+gravity = ti.Vector([0.0, -9.8, 0.0])
+collision_stiffness = 2e4
+velocity_damping_stiffness = 1e3
+friction_stiffness = 0.1
+dt = 5e-4
+
+mesh_vertices = read_obj_file("my_bunny.obj", scale=0.4)
+num_particles = mesh_vertices.shape[0]
+
+# per particle
+particle_vertices = ti.Vector.field(3, dtype=ti.f32, shape=num_particles)
+particle_origin_vertices = ti.Vector.field(3, dtype=ti.f32, shape=num_particles)
+particle_velocities = ti.Vector.field(3, dtype=ti.f32, shape=num_particles)
+particle_force = ti.Vector.field(3, dtype=ti.f32, shape=num_particles)
+
+# the body
+body_cm_position = ti.Vector.field(3, dtype=ti.f32, shape=())
+body_origin_cm_position = ti.Vector.field(3, dtype=ti.f32, shape=())
+body_velocity = ti.Vector.field(3, dtype=ti.f32, shape=())
+body_angular_velocity = ti.Vector.field(3, dtype=ti.f32, shape=())
+body_rotation = ti.Matrix.field(3, 3, dtype=ti.f32, shape=())
+body_rotation_quaternion = ti.Vector.field(4, dtype=ti.f32, shape=())
+body_angular_momentum = ti.Vector.field(3, dtype=ti.f32, shape=())
+body_origin_inverse_inertia = ti.Matrix.field(3, 3, dtype=ti.f32, shape=())
+body_mass = ti.field(dtype=ti.f32, shape=())
+
+particle_vertices.from_numpy(mesh_vertices)
+
+
+@ti.func
+def quaternion_multiplication(p, q):
+    # p * q for quaternions stored as (w, x, y, z)
+    w = p[0] * q[0] - p[1] * q[1] - p[2] * q[2] - p[3] * q[3]
+    x = p[0] * q[1] + p[1] * q[0] + p[2] * q[3] - p[3] * q[2]
+    y = p[0] * q[2] - p[1] * q[3] + p[2] * q[0] + p[3] * q[1]
+    z = p[0] * q[3] + p[1] * q[2] - p[2] * q[1] + p[3] * q[0]
+    return ti.Vector([w, x, y, z])
+
+
+@ti.func
+def quaternion_to_matrix(q):
+    w, x, y, z = q[0], q[1], q[2], q[3]
+    return ti.Matrix([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                      [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                      [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+
+
+@ti.kernel
+def initial():
+    # the centre of mass
+    body_mass[None] = 0.0
+    body_cm_position[None] = ti.Vector([0.0, 0.0, 0.0])
+    for i in particle_vertices:
+        body_mass[None] += particle_mass
+        body_cm_position[None] += particle_mass * particle_vertices[i]
+    body_cm_position[None] /= body_mass[None]
+    body_origin_cm_position[None] = body_cm_position[None]
+    for i in particle_vertices:
+        particle_origin_vertices[i] = particle_vertices[i] - body_cm_position[None]
+
+    inertia = ti.Matrix([[0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]])
+    # TODO 1: Compute the inertia tensor of the body
+    # sum over the particles: m (r^T r E - r r^T), r from the centre of mass
+    for i in particle_vertices:
+        x, y, z = particle_origin_vertices[i][0], particle_origin_vertices[i][1], particle_origin_vertices[i][2]
+        inertia += particle_mass * ti.Matrix([[y * y + z * z, -x * y, -x * z],
+                                              [-x * y, x * x + z * z, -y * z],
+                                              [-x * z, -y * z, x * x + y * y]])
+
+    # compute the inverse inertia and the initial angular momentum
+    body_origin_inverse_inertia[None] = inertia.inverse()
+    body_rotation[None] = ti.Matrix.identity(float, 3)
+    body_rotation_quaternion[None] = ti.Vector([1.0, 0.0, 0.0, 0.0])
+    body_velocity[None] = initial_velocity
+    body_angular_velocity[None] = initial_angular_velocity
+    body_angular_momentum[None] = inertia @ initial_angular_velocity
+
+
+@ti.kernel
+def substep():
+    # computer the force on every particle
+    for i in particle_vertices:
+        # TODO 2: gravity
+        particle_force[i] = particle_mass * gravity
+
+        # Collision force: a spring pushes the particle back into the box
+        if particle_vertices[i][1] < -1:
+            # bonus: damping of the normal velocity (never pulling) and friction against sliding
+            normal_force = collision_stiffness * (-1 - particle_vertices[i][1])
+            normal_force -= velocity_damping_stiffness * particle_velocities[i][1]
+            normal_force = ti.max(normal_force, 0.0)
+            particle_force[i][1] += normal_force
+            sliding = ti.Vector([particle_velocities[i][0], 0.0, particle_velocities[i][2]])
+            if sliding.norm() > 1e-6:
+                particle_force[i] -= friction_stiffness * normal_force * sliding / sliding.norm()
+        if particle_vertices[i][0] < -1:
+            particle_force[i][0] += collision_stiffness * (-1 - particle_vertices[i][0])
+        if particle_vertices[i][0] > 1:
+            particle_force[i][0] += collision_stiffness * (1 - particle_vertices[i][0])
+        if particle_vertices[i][2] < -1:
+            particle_force[i][2] += collision_stiffness * (-1 - particle_vertices[i][2])
+        if particle_vertices[i][2] > 1:
+            particle_force[i][2] += collision_stiffness * (1 - particle_vertices[i][2])
+
+    # computer the force for rigid body
+    body_force = ti.Vector([0.0, 0.0, 0.0])
+    # TODO 3: compute the force for rigid body
+    total_force = ti.Vector([0.0, 0.0, 0.0])
+    for j in range(num_particles):
+        total_force += particle_force[j]
+
+    # computer the torque for rigid body
+    body_torque = ti.Vector([0.0, 0.0, 0.0])
+    # TODO 4: compute the torque for rigid body
+    for i in particle_vertices:
+        body_torque += ti.math.cross(body_rotation[None] @ particle_origin_vertices[i], particle_force[i])
+
+    # update the centre of mass position and velocity
+    # TODO 5: update the center of mass position and velocity
+    body_velocity[None] += total_force / body_mass[None] * dt
+    body_cm_position[None] += body_velocity[None] * dt
+
+    # update the rotation
+    # TODO 6: update the rotation quaternion
+    w = body_angular_velocity[None]
+    big_omega = ti.Matrix([[0.0, -w[0], -w[1], -w[2]], [w[0], 0.0, -w[2], w[1]],
+                           [w[1], w[2], 0.0, -w[0]], [w[2], -w[1], w[0], 0.0]])
+    body_rotation_quaternion[None] = body_rotation_quaternion[None] + 0.5 * dt * (big_omega @ body_rotation_quaternion[None])
+
+    # normalize the quaternion and update the rotation matrix
+    body_rotation_quaternion[None] = body_rotation_quaternion[None].normalized()
+    body_rotation[None] = quaternion_to_matrix(body_rotation_quaternion[None])
+
+    # update the angular momentum, inertia tensor and angular velocity
+    # TODO 7: update, the angular momentum, inertia tensor and angular velocity
+    body_angular_momentum[None] += dt * body_torque
+    rotation = body_rotation[None]
+    body_angular_velocity[None] = rotation @ (body_origin_inverse_inertia[None] @ (rotation.transpose() @ body_angular_momentum[None]))
+
+    # update the particles
+    for i in particle_vertices:
+        offset = body_rotation[None] @ particle_origin_vertices[i]
+        particle_vertices[i] = body_cm_position[None] + offset
+        particle_velocities[i] = body_velocity[None] + body_angular_velocity[None].cross(offset)
+
+
+initial()
+
+window = ti.ui.Window("Rigid body", (1024, 768), vsync=True)
+canvas = window.get_canvas()
+canvas.set_background_color((1.0, 1.0, 1.0))
+scene = ti.ui.Scene()
+camera = ti.ui.Camera()
+camera.position(0.0, 0.5, 4.0)
+camera.lookat(0.0, -0.5, 0.0)
+
+gui = window.get_gui()
+paused = False
+while window.running:
+    if window.get_event(ti.ui.PRESS) and window.event.key == ti.ui.SPACE:
+        paused = not paused
+    with gui.sub_window("parameters", 0.02, 0.02, 0.3, 0.15):
+        collision_stiffness = gui.slider_float("stiffness", collision_stiffness, 1e3, 1e5)
+        if gui.button("kick"):
+            body_velocity[None] = ti.Vector([0.0, 5.0, 0.0])
+    if not paused:
+        for _ in range(int(1 / 60 // dt)):
+            substep()
+    camera.track_user_inputs(window, movement_speed=0.03, hold_key=ti.ui.RMB)
+    scene.set_camera(camera)
+    scene.point_light(pos=(0.0, 2.0, 3.0), color=(1.0, 1.0, 1.0))
+    scene.ambient_light((0.5, 0.5, 0.5))
+    scene.particles(particle_vertices, radius=0.02, color=(0.3, 0.5, 0.9))
+    canvas.scene(scene)
+    window.show()
