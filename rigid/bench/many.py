@@ -1,0 +1,252 @@
+"""Many-body speed: the MuJoCo comparison pile, cost against particle count, 1,000 bodies.
+
+    python scripts/bench_many.py            # the full run (a few minutes on 2 cores)
+    python scripts/bench_many.py --quick    # a smoke run: small sizes (seconds)
+
+1. Piles of 125 and 27 spheres (assets/sphere.obj, 42 vertices, scale 0.15, vertex particles,
+   a lattice above (0, -0.8, 0), Δt = 1e-3): this engine's time per substep and, if MuJoCo
+   is installed, MuJoCo's per step on the same pile (free bodies with the sphere mesh geom,
+   same positions and masses), side by side in one process, and their ratio.
+2. Cost per substep against particle count (125 volume-sampled spheres, grid chosen to
+   reach each target), on the path the engine chooses (rigid.engine.world).
+3. 1,000 volume-sampled spheres (scale 0.05, grid 8: 208,000 particles): rendered frames
+   per second, 16 substeps per frame, engine only (no drawing).
+Times: median over repeats of whole frames' wall time. The machine's load and CPU count
+are recorded: timings are noisy and never asserted.
+"""
+from __future__ import annotations
+
+import json
+import os
+import platform
+import statistics
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[2]
+PILE = dict(scale=0.15, position=(0.0, -0.8, 0.0), dt=1e-3)
+
+
+def _setup():
+    from rigid.engine.units import load_units
+    from rigid.runtime import init_taichi
+    init_taichi("cpu", fp64=False)
+    return load_units(ROOT / "rigid_body_dynamic.py")
+
+
+def _build(units, **kw):
+    import taichi as ti
+    from rigid.config import SimConfig
+    from rigid.engine.simulator import Simulator
+
+    start = time.perf_counter()
+    sim = Simulator(SimConfig(**kw).validate(), units)
+    sim.step_frame(1)
+    ti.sync()
+    return sim, time.perf_counter() - start
+
+
+def time_steps(step, sync, warmup: int, frames: int, repeats: int, substeps: int) -> list[float]:
+    """Wall seconds per substep of each repeat of ``frames`` frames, after ``warmup``."""
+    for _ in range(warmup):
+        step(substeps)
+    sync()
+    out = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        for _ in range(frames):
+            step(substeps)
+        sync()
+        out.append((time.perf_counter() - start) / (frames * substeps))
+    return out
+
+
+def mujoco_pile(sim):
+    """MuJoCo model and data: one free body per engine body, the mesh geom, the same box."""
+    import mujoco
+    from rigid.bench.mujoco import _planes
+
+    c, bodies = sim.config, sim.bodies
+    g = bodies[0].geometry
+    verts = np.asarray(g.vertices, float) - g.particles.mean(axis=0)  # centre of mass at the origin
+    vert = " ".join(f"{x:.9g}" for x in verts.reshape(-1))
+    face = " ".join(str(int(i)) for i in np.asarray(g.faces).reshape(-1))
+    mass = sim.model.body_mass_np
+    parts = []
+    for i, b in enumerate(bodies):
+        p, q = b.position, b.orientation
+        parts.append(f'<body pos="{p[0]} {p[1]} {p[2]}" quat="{q[0]} {q[1]} {q[2]} {q[3]}"><freejoint/>'
+                     f'<geom type="mesh" mesh="s" mass="{mass[i]}"/></body>')
+    gr = c.gravity
+    xml = f"""<mujoco>
+  <option timestep="{c.dt}" gravity="{gr[0]} {gr[1]} {gr[2]}" integrator="Euler"/>
+  <asset><mesh name="s" vertex="{vert}" face="{face}"/></asset>
+  <worldbody>{_planes(c.floor, c.wall)}{''.join(parts)}</worldbody>
+</mujoco>"""
+    model = mujoco.MjModel.from_xml_string(xml)
+    return mujoco, model, mujoco.MjData(model)
+
+
+def pile(units, count: int, quick: bool, row_out: dict) -> None:
+    """Engine and MuJoCo on the same pile of ``count`` vertex spheres, side by side."""
+    import taichi as ti
+    from rigid.bench.mujoco import available
+
+    sim, build_s = _build(units, count=count, **PILE)
+    warm, frames, reps = (3, 3, 1) if quick else (30, 30, 5)
+    n = sim.substeps
+    row = dict(bodies=count, particles=sim.model.num_particles, substeps_per_frame=n,
+               engine_build_s=round(build_s, 2))
+    step_mj = None
+    row["mujoco_version"] = available()
+    if row["mujoco_version"]:
+        mujoco, model, data = mujoco_pile(sim)
+        step_mj = lambda k: mujoco.mj_step(model, data, nstep=k)  # noqa: E731
+        time_steps(step_mj, lambda: None, warm, 0, 0, n)
+    time_steps(sim.step_frame, ti.sync, warm, 0, 0, n)
+    eng, mj = [], []  # interleaved: both see the same load and the same stretch of simulated time
+    for _ in range(reps):
+        eng += time_steps(sim.step_frame, ti.sync, 0, frames, 1, n)
+        if step_mj:
+            mj += time_steps(step_mj, lambda: None, 0, frames, 1, n)
+    row["engine_us_per_substep"] = round(statistics.median(eng) * 1e6, 2)
+    row["engine_repeats_us"] = [round(t * 1e6, 2) for t in eng]
+    row["simulated_s"] = [round(warm * n * sim.config.dt, 3), round((warm + reps * frames) * n * sim.config.dt, 3)]
+    if step_mj:
+        row["mujoco_us_per_step"] = round(statistics.median(mj) * 1e6, 2)
+        row["mujoco_repeats_us"] = [round(t * 1e6, 2) for t in mj]
+        row["ratio_engine_over_mujoco"] = round(row["engine_us_per_substep"] / row["mujoco_us_per_step"], 3)
+        row["mujoco_ncon_at_end"] = int(data.ncon)
+    row_out[f"pile_{count}"] = row
+
+
+def grid_for(target: int, count: int, top: int = 40) -> int:
+    """The volume-sampling grid whose ``count`` spheres come closest to ``target`` particles."""
+    from rigid.bodies.mesh import body_geometry
+    from rigid.config import SimConfig
+    best, best_err = 3, None
+    for g in range(3, top + 1):
+        n = count * len(body_geometry(SimConfig(scale=PILE["scale"], particles="volume", grid=g)).particles)
+        err = abs(np.log(n / target))
+        if best_err is None or err < best_err:
+            best, best_err = g, err
+        if n > target * 2:
+            break
+    return best
+
+
+def scaling(units, targets, max_build_s: float) -> list[dict]:
+    """Time per substep against particle count: 125 volume spheres, the engine's own path."""
+    import taichi as ti
+    from rigid.engine.world import world_uses_serial
+    points = []
+    for target in targets:
+        grid = grid_for(target, 125)
+        sim, build_s = _build(units, count=125, particles="volume", grid=grid, **dict(PILE, position=(0.0, -0.7, 0.0)))
+        n_p = sim.model.num_particles
+        start = time.perf_counter()
+        sim.step_frame(1)
+        ti.sync()
+        one = time.perf_counter() - start
+        frames = max(1, min(20, int(1.0 / max(one * 16, 1e-6))))  # ~1 s per repeat
+        t = time_steps(sim.step_frame, ti.sync, 1, frames, 3, 16)
+        points.append(dict(target=target, particles=n_p, bodies=125, grid=grid,
+                           path="serial" if world_uses_serial(n_p) else "parallel",
+                           build_s=round(build_s, 2), us_per_substep=round(statistics.median(t) * 1e6, 2),
+                           ns_per_particle_substep=round(statistics.median(t) * 1e9 / n_p, 2)))
+        print(f"  {n_p:>9,} particles ({points[-1]['path']}): {points[-1]['us_per_substep']:,.0f} µs/substep",
+              flush=True)
+        del sim
+        if build_s + one * 16 * 8 > max_build_s:  # the next size (~4x) would take too long
+            break
+    return points
+
+
+def thousand(units, quick: bool) -> dict:
+    """Rendered frames per second (16 substeps each, engine only) of 1,000 volume spheres."""
+    import taichi as ti
+    count, grid = (8, 3) if quick else (1000, 8)
+    sim, build_s = _build(units, count=count, scale=0.05, particles="volume", grid=grid,
+                          position=(0.0, -0.8, 0.0), dt=1e-3)
+    frames, reps = (2, 1) if quick else (5, 3)
+    t = time_steps(sim.step_frame, ti.sync, 2, frames, reps, 16)
+    frame_s = statistics.median(t) * 16
+    return dict(bodies=count, particles=sim.model.num_particles, grid=grid, scale=0.05, substeps_per_frame=16,
+                build_s=round(build_s, 2), ms_per_frame=round(frame_s * 1e3, 1), fps=round(1.0 / frame_s, 2),
+                fps_repeats=[round(1.0 / (x * 16), 2) for x in t])
+
+
+def machine() -> dict:  # shared cores: record the load next to the times
+    return dict(cpu_count=os.cpu_count(), loadavg_1_5_15=[round(x, 2) for x in os.getloadavg()],
+                platform=platform.platform(), python=platform.python_version())
+
+
+def figure(points: list[dict], path: Path) -> None:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    x = np.array([p["particles"] for p in points], float)
+    y = np.array([p["us_per_substep"] for p in points], float)
+    fig, ax = plt.subplots(figsize=(5.5, 4))
+    ax.loglog(x, y, "o-", label="this engine (125 volume spheres)")
+    ax.loglog(x, np.median(y / x) * x, "k--", lw=0.8, label="linear (median µs per particle)")
+    ax.set_xlabel("particles")
+    ax.set_ylabel("µs per substep")
+    ax.set_title("Cost per substep against particle count (CPU)")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def markdown(r: dict) -> str:
+    m, t = r["machine"], r["thousand"]
+    lines = ["# Many-body benchmark", "",
+             f"CPU, float32, {m['cpu_count']} CPUs, load average {m['loadavg_1_5_15']} (1/5/15 min) at the "
+             "start: other processes shared these cores during the run, so the times are noisy "
+             "and are reported, never asserted. Medians over repeats.", "",
+             "## Pile of vertex spheres (42 vertices, scale 0.15, Δt = 1e-3), side by side with MuJoCo", "",
+             "Repeats of the engine and MuJoCo alternate (same load, same stretch of simulated time, "
+             "from warm-up end to the last repeat: `simulated_s` in the JSON); MuJoCo's cost grows as the "
+             "pile settles and its contacts grow (per-repeat times in the JSON). Ratio < 1: the engine is faster.", "",
+             "| bodies | particles | engine µs/substep | MuJoCo µs/step | engine / MuJoCo |", "|---|---|---|---|---|"]
+    for key in ("pile_125", "pile_27"):
+        p = r.get(key)
+        if p:
+            mj = p.get("mujoco_us_per_step", "not installed")
+            lines.append(f"| {p['bodies']} | {p['particles']:,} | {p['engine_us_per_substep']:,} | {mj} | "
+                         f"{p.get('ratio_engine_over_mujoco', '-')} |")
+    lines += ["", "## Cost per substep against particle count (125 volume-sampled spheres)", "",
+              "![scaling](figures/many_scaling.png)", "",
+              "| particles | grid | path | µs/substep | ns per particle-substep |", "|---|---|---|---|---|"]
+    lines += [f"| {p['particles']:,} | {p['grid']} | {p['path']} | {p['us_per_substep']:,} | "
+              f"{p['ns_per_particle_substep']} |" for p in r["scaling"]]
+    lines += ["", "## 1,000 bodies", "",
+              f"{t['bodies']:,} volume spheres (scale {t['scale']}, grid {t['grid']}), {t['particles']:,} particles: "
+              f"{t['ms_per_frame']} ms per frame of {t['substeps_per_frame']} substeps = **{t['fps']} frames per "
+              "second** (engine only, headless, no drawing).", ""]
+    return "\n".join(lines)
+
+
+def run(out: Path, quick: bool = False) -> dict:
+    (out := Path(out)).mkdir(parents=True, exist_ok=True)
+    report = dict(quick=quick, machine=machine())
+    units = _setup()
+    for count in ((27,) if quick else (125, 27)):
+        print(f"pile of {count} spheres", flush=True)
+        pile(units, count, quick, report)
+    print("scaling", flush=True)
+    targets = (1_000,) if quick else (1_000, 4_000, 16_000, 64_000, 256_000, 1_000_000)
+    report["scaling"] = scaling(units, targets, max_build_s=60.0)
+    print("1,000 bodies", flush=True)
+    report["thousand"] = thousand(units, quick)
+    report["machine"]["loadavg_1_5_15_at_end"] = [round(x, 2) for x in os.getloadavg()]
+    figure(report["scaling"], out / "figures" / "many_scaling.png")
+    (out / "bench_many.json").write_text(json.dumps(report, indent=2) + "\n")
+    (out / "bench_many.md").write_text(markdown(report))
+    return report
