@@ -18,7 +18,6 @@ graded (the file blows up whatever its TODO code).
 import numpy as np
 
 from .runner import COLUMNS, FRAMES, run
-from .variants import build
 
 RTOL = 1e-4  # float32 fields: equivalent code differs by ~1e-6 after half a second; mistakes by > 1e-2
 COMPARED = {"body_cm_position": ("m", 1.0), "body_rotation_quaternion": ("", 1.0),
@@ -46,10 +45,8 @@ def describe(errs: dict, label: str, frames: int) -> str:
 class Attribution:
     """The reference runs of one submission and the per-TODO runs against them."""
 
-    def __init__(self, text, regions, folder, form, param_sets, first_reference=None, renames=None,
-                 frames=FRAMES):
-        self.text, self.regions, self.folder, self.form, self.frames = text, regions, folder, form, frames
-        self.renames = renames
+    def __init__(self, model, folder, form, param_sets, first_reference=None, frames=FRAMES):
+        self.model, self.folder, self.form, self.frames = model, folder, form, frames
         self.sets = param_sets  # [(label, params or None)]
         self.refs, self.notes, self.count = {}, [], 0
         if first_reference is not None:
@@ -58,7 +55,7 @@ class Attribution:
     def reference(self, label, params):
         key = (self.form, tuple(sorted(params.items())) if params else None)
         if key not in self.refs:
-            variant = build(self.text, self.regions, (), self.form, params, renames=self.renames)
+            variant = self.model.build((), self.form, params)
             self.refs[key] = run(variant, self._path("reference"), self.frames).rows
         rows = self.refs[key]
         if rows is None or not np.all(np.isfinite(rows)):
@@ -76,7 +73,7 @@ class Attribution:
         """(passed, message) of the file with the student's code in ``todos`` only."""
         worst = 0.0
         for label, params, ref in usable:
-            variant = build(self.text, self.regions, set(todos), self.form, params, renames=self.renames)
+            variant = self.model.build(set(todos), self.form, params)
             result = run(variant, self._path("todos_" + "_".join(map(str, todos))), self.frames)
             if result.rows is None:
                 return False, f"the file with it fails when run: {result.error}"

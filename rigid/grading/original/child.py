@@ -10,14 +10,15 @@ checks.judge against the reference's answers) and "trajectory" per group
 applied, a file without a window loop, ti.init called twice) go as
 {"event": "note", "message": ...}.
 """
+import ast
 from pathlib import Path
 
 from ..checks import judge
 from . import harness
 from .attribution import Attribution, check_simulations
-from .regions import RegionError, find_regions
+from .regions import RegionError
 from .runner import describe, run
-from .variants import build, module_values, perturbed
+from .variants import FileModel
 
 
 def init_taichi():
@@ -50,19 +51,17 @@ def grade(events, path, expected, todos, per_todo=False, renames=None):
     """Grade the file at ``path`` (the box is its folder); ``expected``: an expected.Expected."""
     events.emit(phase="import")
     path = Path(path)
-    text = path.read_text(encoding="utf-8", errors="replace")
     try:
-        regions = find_regions(text)
+        model = FileModel(path.read_text(encoding="utf-8", errors="replace"), renames)
     except RegionError as err:
         events.emit(event="import_failed", message=str(err))
         return
     init_taichi()
     folder = path.parent / "_grader"
     folder.mkdir(exist_ok=True)
-    fields = set(module_values(text))
-    lines = text.splitlines()
-    extra = [line for k in todos for line in harness.kernel(k, regions, lines, fields)]
-    variant = build(text, regions, (), extra=extra, renames=renames)
+    unparsable = {k: _syntax_error(model, k) for k in todos if k in model.regions}
+    extra = [line for k in todos if k in model.regions and not unparsable[k] for line in harness.kernel(k, model)]
+    variant = model.build(extra=extra)
     first = run(variant, folder / "reference_harness.py")
     for note in first.notes:
         events.emit(event="note", message=note)
@@ -75,21 +74,39 @@ def grade(events, path, expected, todos, per_todo=False, renames=None):
     results = {}
     for k in todos:
         events.emit(phase="direct", todo=k)
-        results[k] = _direct(k, regions[k], lines, text, first.module, variant, folder, particles, expected)
+        if k in model.problems:
+            results[k] = dict(passed=False, message=f"TODO {k}: not graded — {model.problems[k]}")
+        elif unparsable[k]:
+            results[k] = dict(passed=False, message=f"TODO {k}: {unparsable[k]}")
+        else:
+            results[k] = _direct(k, model, first.module, variant, folder, particles, expected)
         events.emit(event="direct", todo=k, **results[k])
-    params, notes = perturbed(text)
+    params, notes = model.perturbed()
     for note in notes:
         events.emit(event="note", message=note)
     sets = [("the file's parameters", None)] + ([(perturbed_label(params), params)] if params else [])
     form = results.get(5, {}).get("form", "position-first")
-    attribution = Attribution(text, regions, folder, form, sets,
-                              first.rows if form == "position-first" else None, renames)
+    attribution = Attribution(model, folder, form, sets, first.rows if form == "position-first" else None)
     check_simulations(events, attribution, results, per_todo)
 
 
-def _direct(k, region, lines, text, module, variant, folder, particles, expected) -> dict:
+def _syntax_error(model, k) -> str:
+    """'' if TODO k's code parses, else the message (the student's line)."""
+    region = model.regions[k]
+    code = region.code(model.text.splitlines())
+    body = "".join("    " + (line[len(region.indent):] if line.startswith(region.indent) else line.lstrip()) + "\n"
+                   for line in code)
+    try:
+        ast.parse(f"for _ in ():\n{body}    pass\n")
+    except SyntaxError as err:
+        line = region.start + (err.lineno or 1) - 1
+        return f"the code under '# TODO {k}:' has a syntax error at line {line}: {err.msg}"
+    return ""
+
+
+def _direct(k, model, module, variant, folder, particles, expected) -> dict:
     where = f"the code under '# TODO {k}:'"
-    blocked = harness.blocked_by(text, region.code(lines))
+    blocked = harness.blocked_by(model.reference_text, model.regions[k].code(model.text.splitlines()))
     if blocked:
         return dict(passed=True, simulation_only=True,
                     message=f"TODO {k}: checked by simulation only ({where} reads {blocked}, which is computed "
@@ -101,4 +118,3 @@ def _direct(k, region, lines, text, module, variant, folder, particles, expected
                                           f"{describe(err, variant, folder / 'reference_harness.py')}")
     return judge(spec, sub, inputs, expected.direct(k),
                  not_done=f"{where} leaves its result zero or unchanged")
-

@@ -69,9 +69,9 @@ def _reindent(text: str, old: str, new: str) -> list:
     return [new + (line[len(old):] if line.startswith(old) else line.lstrip()) for line in text.splitlines()]
 
 
-def kernel(k: int, regions: dict, lines, fields) -> list:
-    """The source lines of kernel grader_todo{k}; ``fields``: the module-level names the file assigns."""
-    region = regions[k]
+def kernel(k: int, model) -> list:
+    """The source lines of kernel grader_todo{k} for a variants.FileModel."""
+    region, lines, fields = model.regions[k], model.text.splitlines(), model.assignments
     out = ["@ti.kernel",
            f"def grader_todo{k}(dt: ti.f64, particle_mass: ti.f64, gravity: ti.types.vector(3, ti.f64),",
            f"                   grader_in: ti.types.ndarray(dtype=ti.f64, ndim=1)) -> {RETURNS.get(k, 'ti.types.vector(3, ti.f64)')}:",
@@ -91,7 +91,8 @@ def kernel(k: int, regions: dict, lines, fields) -> list:
     if k in (1, 3, 4) and not region.loop_var:
         out.append(f"    {region.shared} = {'ti.Matrix.zero(float, 3, 3)' if k == 1 else ZERO}")
     if k in (5, 7):  # the total force (TODO 3's local) or torque (TODO 4's) it reads
-        out.append(f"    {regions[3 if k == 5 else 4].shared} = {_get('shared')}")
+        name = model.shared[3 if k == 5 else 4] or ("body_force" if k == 5 else "body_torque")
+        out.append(f"    {name} = {_get('shared')}")
     for line in region.code(lines):
         out += _reindent(line, region.indent, body) if line.strip() else [""]
     out.append(f"{body}pass")  # an empty region in a loop

@@ -50,7 +50,7 @@ def _body(k: int, form: str) -> list:
 
 def lines_for(k: int, region, shared: dict, form: str = "position-first") -> list:
     """The reference lines of TODO k for ``region`` (a regions.Region), each ending in a newline."""
-    names = dict(I=shared.get(1, "inertia"), F=shared.get(3, "body_force"), T=shared.get(4, "body_torque"))
+    names = dict(I=shared.get(1) or "inertia", F=shared.get(3) or "body_force", T=shared.get(4) or "body_torque")
     out = []
     if k in (1, 2, 3, 4):
         local = names.get({1: "I", 3: "F", 4: "T"}.get(k))

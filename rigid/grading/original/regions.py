@@ -7,21 +7,23 @@ first line (continuation lines of a statement never count) that is
 - less indented than the TODO line (the enclosing loop or kernel ends),
 - a comment as indented as the TODO line that starts given code: its first word
   begins with one of GIVEN_WORDS ("# Collision force ...", "# computer the torque ...",
-  "# update the particles", "# normalize ..."); other comments (hints, the student's
-  own notes) stay in the region,
+  "# update the particles", "# normalize ...") and the code after it does not do
+  the TODO's job (JOB: a student's own "# update the velocity" above their TODO 5
+  lines is followed by writes of body_velocity, so it stays in the region); other
+  comments (hints, the student's own notes) stay in the region,
 - for TODOs 1 and 6, a line as indented that writes a field the given code after them
   sets (``body_origin_inverse_inertia[None] = ...``, ``body_rotation[None] = ...``).
 
-Trailing blank lines are left out. Each region knows its kernel, the innermost
+Trailing blank lines are left out. The file need not parse (a syntax error in
+one TODO costs that TODO only); a TODO whose marker is missing or doubled is
+reported in ``problems`` and cannot be graded, the others can. Each region
+knows its kernel, the innermost
 ``for`` loop around it (TODO 2 sits in the given particle loop) and, for TODOs
 1, 3 and 4, the local variable it hands on (the inertia, the total force, the
 total torque): the one the handout declares before it, or failing that the one
 the student's region assigns and later code reads.
 """
-import ast
-import io
 import re
-import tokenize
 from dataclasses import dataclass, field
 
 MARKER = re.compile(r"^(?P<indent>[ \t]*)#\s*TODO\s*(?P<k>[1-7])(?![0-9])\s*:?\s*(?P<title>.*)$", re.IGNORECASE)
@@ -30,6 +32,16 @@ GIVEN_WORDS = ("collision", "comput", "update", "normali", "given", "render", "d
 GIVEN_AFTER = {1: ("body_origin_inverse_inertia", "body_angular_momentum", "body_velocity"),
                6: ("body_rotation",)}
 SHARED = {1: "inertia", 3: "body_force", 4: "body_torque"}  # default names of the locals handed on
+JOB = {  # what the code of each TODO does, to tell a student's comment from the given code's
+    1: r"outer_product|particle_origin_vertices|particle_vertices",
+    2: r"\bgravity\b",
+    3: r"particle_force\s*\[",
+    4: r"cross",
+    5: r"\b(body_cm_position|body_velocity)\s*\[\s*None\s*\]\s*[-+*/]?=(?!=)",
+    6: r"\bdt\b",
+    7: r"\b(body_angular_momentum|body_angular_velocity)\s*\[\s*None\s*\]\s*[-+*/]?=(?!=)",
+}
+DEF = re.compile(r"^(?P<indent>[ \t]*)def\s+(?P<name>[A-Za-z_]\w*)\s*\(")
 FOR = re.compile(r"^\s*for\s+(?P<var>[A-Za-z_]\w*)\s+in\b.*:\s*(#.*)?$")
 ASSIGN = re.compile(r"^\s*(?P<name>[A-Za-z_]\w*)\s*(?P<op>\+?=)(?!=)")
 IDENT = re.compile(r"[A-Za-z_]\w*")
@@ -66,55 +78,110 @@ def indent_of(line: str) -> int:
 
 
 def continuation_lines(text: str) -> set:
-    """Indices of lines that continue a statement (inside brackets, a string or after a backslash)."""
-    cont, depth = set(), 0
-    try:
-        for tok in tokenize.generate_tokens(io.StringIO(text).readline):
-            if tok.type == tokenize.OP and tok.string in "([{":
-                depth += 1
-            elif tok.type == tokenize.OP and tok.string in ")]}":
-                depth = max(0, depth - 1)
-            elif tok.type in (tokenize.NL, tokenize.NEWLINE) and depth:
-                cont.add(tok.start[0])  # 1-based: the next line (index tok.start[0]) continues
-            if tok.end[0] > tok.start[0]:  # a string over several lines
-                cont.update(range(tok.start[0], tok.end[0]))
-    except (tokenize.TokenError, IndentationError, SyntaxError):
-        pass
-    for i, line in enumerate(text.splitlines()):
-        if line.rstrip().endswith("\\"):
-            cont.add(i + 1)
+    """Indices of lines that continue a statement (open brackets, a string over lines, a backslash).
+
+    It recovers from an unclosed bracket (a syntax error in one TODO): a line no more indented than
+    the line that opened the bracket, and not starting with a closing one, starts a new statement.
+    """
+    cont, depth, opener, quote = set(), 0, 0, None
+    lines = text.splitlines()
+    for i, line in enumerate(lines):
+        stripped = line.strip()
+        if quote is None and depth and stripped and indent_of(line) <= opener and stripped[0] not in ")]}":
+            depth = 0
+        if quote is not None or depth or (i and lines[i - 1].rstrip().endswith("\\")):
+            cont.add(i)
+        elif stripped:
+            opener = indent_of(line)
+        depth, quote = _scan(line, depth, quote)
     return cont
 
 
-def find_regions(text: str) -> dict:
-    """k -> Region for k = 1..7; RegionError (one line for the student) if the markers cannot be read."""
-    try:
-        tree = ast.parse(text)
-    except SyntaxError as err:
-        raise RegionError(f"the file has a syntax error at line {err.lineno}: {err.msg}")
+def _scan(line: str, depth: int, quote):
+    """Bracket depth and open triple quote after ``line`` (strings and comments skipped)."""
+    j = 0
+    while j < len(line):
+        if quote is not None:
+            end = line.find(quote, j)
+            if end < 0:
+                return depth, quote
+            j, quote = end + len(quote), None
+            continue
+        c = line[j]
+        if c == "#":
+            break
+        if c in "'\"":
+            triple = line[j:j + 3]
+            if triple in ('"""', "'''"):
+                quote, j = triple, j + 3
+                continue
+            end = j + 1
+            while end < len(line) and line[end] != c:
+                end += 2 if line[end] == "\\" else 1
+            j = end + 1
+            continue
+        if c in "([{":
+            depth += 1
+        elif c in ")]}":
+            depth = max(0, depth - 1)
+        j += 1
+    return depth, quote
+
+
+def find_regions(text: str) -> tuple:
+    """({k: Region} of the TODOs found, {k: why TODO k cannot be located}); RegionError if none is usable."""
     lines = text.splitlines()
-    functions = [(n.lineno - 1 - len(n.decorator_list), n.end_lineno, n.name) for n in ast.walk(tree)
-                 if isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef))]
     cont = continuation_lines(text)
-    markers = {}
+    functions = _functions(lines, cont)
+    markers, problems = {}, {}
     for i, line in enumerate(lines):
-        m = MARKER.match(line)
-        if m and i not in cont:
+        m = MARKER.match(line)  # continuation lines are not skipped: an unclosed bracket must not hide them
+        if m:
             k = int(m["k"])
             if k in markers:
-                raise RegionError(f"'# TODO {k}' appears twice (lines {markers[k] + 1} and {i + 1}); "
-                                  f"keep one marker per TODO")
-            markers[k] = i
-    missing = [k for k in range(1, 8) if k not in markers]
-    if missing:
-        raise RegionError(f"no '# TODO {missing[0]}:' line; keep the handout's TODO comments")
-    regions = {k: _region(k, i, lines, functions, cont) for k, i in markers.items()}
+                problems[k] = (f"'# TODO {k}' appears twice (lines {markers[k] + 1} and {i + 1}); keep one "
+                               f"marker per TODO")
+            markers.setdefault(k, i)
+    for k in range(1, 8):
+        if k not in markers:
+            problems[k] = f"no '# TODO {k}:' line; keep the handout's TODO comments"
+    regions = {}
+    for k, i in markers.items():
+        try:
+            regions[k] = _region(k, i, lines, functions, cont)
+        except RegionError as err:
+            problems[k] = str(err)
+    regions = {k: r for k, r in regions.items() if k not in problems}
+    if not regions:
+        raise RegionError(problems[min(problems)])
     student = {j for r in regions.values() for j in range(r.marker, r.end)}
     for region in regions.values():
         _loop_and_context(region, lines, cont, student)
     for k in (1, 3, 4):
-        regions[k].shared = _shared_name(regions[k], lines)
-    return regions
+        if k in regions:
+            regions[k].shared = _shared_name(regions[k], lines)
+    return regions, problems
+
+
+def _functions(lines, cont) -> list:
+    """(first line with decorators, last line + 1, name) of every def, from the text (it need not parse)."""
+    out = []
+    for i, line in enumerate(lines):
+        m = DEF.match(line)
+        if not m or i in cont:
+            continue
+        level, first = indent_of(line), i
+        while first > 0 and lines[first - 1].strip().startswith("@"):
+            first -= 1
+        end = i + 1
+        for j in range(i + 1, len(lines)):
+            text = lines[j].strip()
+            if text and not text.startswith("#") and j not in cont and indent_of(lines[j]) <= level:
+                break
+            if text and not (text.startswith("#") and indent_of(lines[j]) <= level):
+                end = j + 1
+        out.append((first, end, m["name"]))
+    return out
 
 
 def _region(k, marker, lines, functions, cont) -> Region:
@@ -127,17 +194,36 @@ def _region(k, marker, lines, functions, cont) -> Region:
     end = len(lines)
     for j in range(marker + 1, len(lines)):
         text = lines[j].strip()
-        if not text or j in cont:
-            continue
-        if indent_of(lines[j]) < level or MARKER.match(lines[j]) or END_MARKER.match(lines[j]):
+        if MARKER.match(lines[j]) or END_MARKER.match(lines[j]):
             end = j
             break
-        if indent_of(lines[j]) == level and _starts_given_code(k, text):
+        if not text or j in cont:
+            continue
+        if indent_of(lines[j]) < level:
+            end = j
+            break
+        if indent_of(lines[j]) == level and _starts_given_code(k, text) and not _does_the_job(k, lines, j, level, cont):
             end = j
             break
     while end > marker + 1 and not lines[end - 1].strip():
         end -= 1
     return Region(k, marker, marker + 1, end, indent, name, (first, last))
+
+
+def _does_the_job(k, lines, start, level, cont) -> bool:
+    """Whether the code after the comment at ``start`` (up to the next comment of its level, TODO line or
+    dedent) does TODO k's job: then the comment is the student's own, not the start of given code."""
+    code = []
+    for j in range(start + 1, len(lines)):
+        text = lines[j].strip()
+        if not text:
+            continue
+        if j not in cont and (indent_of(lines[j]) < level or MARKER.match(lines[j])
+                              or (text.startswith("#") and indent_of(lines[j]) == level)):
+            break
+        if not text.startswith("#"):
+            code.append(text)
+    return bool(re.search(JOB[k], "\n".join(code)))
 
 
 def _starts_given_code(k, text) -> bool:

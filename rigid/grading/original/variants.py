@@ -1,19 +1,24 @@
 """Versions of a submission: some TODO regions replaced, other parameters, extra kernels.
 
-``build(text, regions, student, ...)`` keeps the student's code for the TODOs in
-``student`` and puts the reference lines (reference.py) in the other regions;
-every line outside the regions (given code, parameters, mesh, bonus code, the
-window loop) stays the student's. ``params`` replaces the module-level
-assignments of those parameters (``particle_mass = 1`` -> ``particle_mass =
-0.7``), ``extra`` is inserted after the last kernel holding a TODO (the
-harness kernels), ``renames`` rewrites string literals (a mesh path the
-sandbox cannot offer). The result remembers, for each of its lines, the line
-of the student's file it came from, so errors name the student's lines.
+``FileModel(text, renames)`` reads the TODO regions (regions.py) and the
+module-level assignments. These come from the version with reference lines in
+every region, so a syntax error inside one TODO does not stop the others from
+being graded; one outside the TODOs raises RegionError. ``build(student, ...)``
+keeps the student's code for the TODOs in ``student`` and puts the reference
+lines (reference.py) in the other regions; every line outside the regions
+(given code, parameters, mesh, bonus code, the window loop) stays the
+student's. ``params`` replaces the module-level assignments of those parameters
+(``particle_mass = 1`` -> ``particle_mass = 0.7``), ``extra`` is inserted after
+the last kernel holding a TODO (the harness kernels), and the file's quoted
+paths in ``renames`` are rewritten (a mesh path the sandbox cannot offer). A
+version remembers, for each of its lines, the line of the student's file it
+came from, so errors name the student's lines.
 """
 import ast
 from dataclasses import dataclass
 
 from .reference import lines_for
+from .regions import RegionError, find_regions
 
 PERTURBED = {  # other parameters than the handout's: a missing mass factor or Δt cannot hide, and it spins
     "particle_mass": (0.7, 1.3),  # the first that differs from the file's own value
@@ -30,82 +35,74 @@ class Variant:
 
     def student_line(self, line: int):
         """The student's line number for line ``line`` (1-based) of this variant, or None."""
-        return self.origin[line - 1] if 0 < line <= len(self.origin) else None
+        return self.origin[line - 1] if line and 0 < line <= len(self.origin) else None
 
 
-def shared_names(regions) -> dict:
-    return {k: regions[k].shared for k in (1, 3, 4)}
+class FileModel:
+    def __init__(self, text: str, renames: dict | None = None):
+        self.text, self.renames = text, renames or {}
+        self.lines = [line if line.endswith("\n") else line + "\n" for line in text.splitlines(keepends=True)]
+        self.regions, self.problems = find_regions(text)
+        self.shared = {k: self.regions[k].shared if k in self.regions else None for k in (1, 3, 4)}
+        reference = self.build()
+        try:
+            tree = ast.parse(reference.text)
+        except SyntaxError as err:
+            raise RegionError(f"the file has a syntax error at line {reference.student_line(err.lineno)} "
+                              f"(outside the TODOs): {err.msg}")
+        self.reference_text = reference.text
+        self.assignments = {}  # name -> (first line index, end index, indent, source of the value)
+        for node in tree.body:
+            if isinstance(node, ast.Assign) and len(node.targets) == 1 and isinstance(node.targets[0], ast.Name):
+                first, last = reference.student_line(node.lineno), reference.student_line(node.end_lineno)
+                if first and last:
+                    indent = self.lines[first - 1][:node.col_offset]
+                    self.assignments[node.targets[0].id] = (first - 1, last, indent,
+                                                            ast.get_source_segment(reference.text, node.value))
 
+    def build(self, student=(), form: str = "position-first", params: dict | None = None,
+              extra: list | None = None) -> Variant:
+        splices = []  # (start, end, new lines)
+        for k, region in self.regions.items():
+            if k not in student:
+                splices.append((region.start, region.end, lines_for(k, region, self.shared, form)))
+        for name, value in (params or {}).items():
+            if name in self.assignments:
+                first, end, indent, old = self.assignments[name]
+                splices.append((first, end, [f"{indent}{name} = {_like(old, value)}\n"]))
+        if extra:
+            at = max(r.kernel_lines[1] for r in self.regions.values())
+            splices.append((at, at, ["\n\n"] + extra))
+        out, origin, i = [], [], 0
+        for start, end, new in sorted(splices, key=lambda s: (s[0], s[1])):
+            out += self.lines[i:start]
+            origin += list(range(i + 1, start + 1))
+            for chunk in new:
+                parts = chunk.splitlines(keepends=True) or [chunk]
+                out += parts
+                origin += [None] * len(parts)
+            i = end
+        out += self.lines[i:]
+        origin += list(range(i + 1, len(self.lines) + 1))
+        text = "".join(out)
+        for old, new in self.renames.items():  # a quoted path, in either quotes
+            text = text.replace(f'"{old}"', f'"{new}"').replace(f"'{old}'", f"'{new}'")
+        return Variant(text, origin)
 
-def build(text: str, regions: dict, student=(), form: str = "position-first", params: dict | None = None,
-          extra: list | None = None, renames: dict | None = None) -> Variant:
-    lines = text.splitlines(keepends=True)
-    lines = [line if line.endswith("\n") else line + "\n" for line in lines]
-    splices = []  # (start, end, new lines)
-    shared = shared_names(regions)
-    for k, region in regions.items():
-        if k not in student:
-            splices.append((region.start, region.end, lines_for(k, region, shared, form)))
-    if params:
-        splices += param_splices(text, params)
-    if extra:
-        at = max(r.kernel_lines[1] for r in regions.values())
-        splices.append((at, at, ["\n\n"] + extra))
-    out, origin, i = [], [], 0
-    for start, end, new in sorted(splices, key=lambda s: (s[0], s[1])):
-        if start < i:
-            continue  # overlaps an earlier splice (a parameter assigned inside a TODO): keep the first
-        out += lines[i:start]
-        origin += list(range(i + 1, start + 1))
-        for chunk in new:
-            parts = chunk.splitlines(keepends=True) or [chunk]
-            out += parts
-            origin += [None] * len(parts)
-        i = end
-    out += lines[i:]
-    origin += list(range(i + 1, len(lines) + 1))
-    text_out = "".join(out)
-    for old, new in (renames or {}).items():  # a quoted path, in either quotes
-        text_out = text_out.replace(f'"{old}"', f'"{new}"').replace(f"'{old}'", f"'{new}'")
-    return Variant(text_out, origin)
+    def values(self) -> dict:
+        """name -> the source text of the value of its module-level assignment (the file's parameters)."""
+        return {name: a[3] for name, a in self.assignments.items()}
 
-
-def module_values(text: str) -> dict:
-    """name -> the source text of its last module-level assignment (the file's parameters)."""
-    found = {}
-    tree = ast.parse(text)
-    for node in tree.body:
-        if isinstance(node, ast.Assign) and all(isinstance(t, ast.Name) for t in node.targets):
-            for target in node.targets:
-                found[target.id] = ast.get_source_segment(text, node.value)
-    return found
-
-
-def perturbed(text: str) -> tuple:
-    """(params for param_splices, notes): the perturbed run's values, each different from the file's own."""
-    own = module_values(text)
-    params, notes = {}, []
-    for name, choices in PERTURBED.items():
-        if name not in own:
-            notes.append(f"the file sets no module-level {name}, so the perturbed run keeps its own value")
-            continue
-        params[name] = next((c for c in choices if _literal(own[name]) != c), choices[-1])
-    return params, notes
-
-
-def param_splices(text: str, params: dict) -> list:
-    """Splices replacing each module-level assignment of a parameter in ``params`` by the new value."""
-    lines = text.splitlines()
-    splices = []
-    for node in ast.parse(text).body:
-        if not (isinstance(node, ast.Assign) and len(node.targets) == 1 and isinstance(node.targets[0], ast.Name)):
-            continue
-        name = node.targets[0].id
-        if name in params:
-            old = ast.get_source_segment(text, node.value) or ""
-            indent = lines[node.lineno - 1][:node.col_offset]
-            splices.append((node.lineno - 1, node.end_lineno, [f"{indent}{name} = {_like(old, params[name])}\n"]))
-    return splices
+    def perturbed(self) -> tuple:
+        """(params for build, notes): the perturbed run's values, each different from the file's own."""
+        params, notes = {}, []
+        for name, choices in PERTURBED.items():
+            if name not in self.assignments:
+                notes.append(f"the file sets no module-level {name}, so the perturbed run keeps its own value")
+                continue
+            own = _literal(self.assignments[name][3])
+            params[name] = next((c for c in choices if own != c), choices[-1])
+        return params, notes
 
 
 def _literal(source):
@@ -120,7 +117,9 @@ def _literal(source):
         value = ast.literal_eval(node)
     except ValueError:
         return None
-    return tuple(float(v) for v in value) if isinstance(value, (list, tuple)) else float(value)
+    if isinstance(value, (list, tuple)):
+        return tuple(float(v) for v in value)
+    return float(value) if isinstance(value, (int, float)) else None
 
 
 def _like(old: str, value) -> str:
