@@ -22,7 +22,6 @@ class OrbitCamera:
         self.azimuth = math.radians(azimuth_deg)  # about +y, 0 looks along −z from +z
         self.elevation = math.radians(elevation_deg)
         self.fov = fov_deg
-        self.camera = ti.ui.Camera()
         self._last_cursor = None
 
     def position(self) -> tuple:
@@ -32,13 +31,6 @@ class OrbitCamera:
         return (tx + self.distance * ce * math.sin(self.azimuth),
                 ty + self.distance * math.sin(self.elevation),
                 tz + self.distance * ce * math.cos(self.azimuth))
-
-    def apply(self) -> ti.ui.Camera:
-        self.camera.position(*self.position())
-        self.camera.lookat(*self.target)
-        self.camera.up(0.0, 1.0, 0.0)
-        self.camera.fov(self.fov)
-        return self.camera
 
     def track(self, window) -> None:
         """Read the mouse and arrow keys of ``window`` (a ti.ui.Window) once per frame."""

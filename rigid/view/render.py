@@ -1,10 +1,12 @@
-"""The GGUI scene: the body's mesh, a checkered floor, the wire box, lights and a camera.
+"""The scene: the body's mesh, a checkered floor and the wire box (or a grid), a light, a camera.
 
 The engine never imports ``ti.ui``; this module reads the simulator's fields
 (``sim.state.surface_x`` [V] vec3 world, ``sim.model.indices`` [3F] i32) and
-owns the few fields of its own (floor tiles, box edges), as Taichi's
-``mass_spring_3d_ggui.py`` does. One ``SceneRenderer`` per process: GGUI
-keeps one window.
+owns the few fields of its own (floor tiles, box edges, grid), as Taichi's
+``mass_spring_3d_ggui.py`` does. The picture is drawn by ``raster.Rasterizer``
+(GGUI's 3D scene grows without bound on Mesa's lavapipe: see raster.py); a
+window shows it with GGUI's ``canvas.set_image``, a recording reads it directly
+(no window, so no Vulkan). One shown ``SceneRenderer`` per process: GGUI keeps one window.
 """
 from __future__ import annotations
 
@@ -14,9 +16,9 @@ import numpy as np
 import taichi as ti
 
 from ..errors import UserError
-from .imaging import buffer_to_rgba8
 from .orbit import OrbitCamera
 from .panel import PANEL_TITLE
+from .raster import Rasterizer
 from .vulkan import INSTALL_HINT, require_vulkan
 
 BACKGROUND = (1.0, 1.0, 1.0)
@@ -24,23 +26,29 @@ BODY_COLOR = (0.93, 0.47, 0.18)
 BOX_COLOR = (0.25, 0.3, 0.4)
 TILE_COLORS = ((0.86, 0.87, 0.9), (0.74, 0.76, 0.8))
 FLOOR_TILES = 8  # per side
+GRID_COLOR = (0.72, 0.74, 0.78)
+GRID_HALF_WIDTH, GRID_STEP = 2.0, 0.25  # m: without walls, lines every 25 cm on the floor plane, 4 m across
+AMBIENT, LIGHT = (0.35, 0.35, 0.35), ((2.5, 4.0, 3.5), (0.75, 0.75, 0.75))
 
 
 class SceneRenderer:
-    """A GGUI window (shown, or offscreen for recording) that draws one simulator's scene."""
+    """Draws one simulator's scene into a picture; shows it in a GGUI window unless ``offscreen``."""
 
     def __init__(self, sim, resolution=(1280, 720), offscreen=False, title="Rigid body",
                  fps_limit=1000):
-        require_vulkan("the window" if not offscreen else "recording (--record)")
-        self._imgui_ini = Path("imgui.ini").resolve()  # see close()
-        try:
-            self.window = ti.ui.Window(title, tuple(int(r) for r in resolution), vsync=not offscreen,
-                                       show_window=not offscreen, fps_limit=fps_limit)
-        except RuntimeError as err:  # a Vulkan the probe could not see through
-            raise UserError(f"GGUI could not start ({err}); {INSTALL_HINT}") from None
+        size = tuple(int(r) for r in resolution)
+        self.window = self.canvas = None
+        if not offscreen:
+            require_vulkan("the window")
+            self._imgui_ini = Path("imgui.ini").resolve()  # see close()
+            try:
+                # No vsync: fps_limit paces the frames (lavapipe's vsync under Xvfb cost ~8 ms a frame)
+                self.window = ti.ui.Window(title, size, vsync=False, show_window=True, fps_limit=fps_limit)
+            except RuntimeError as err:  # a Vulkan the probe could not see through
+                raise UserError(f"GGUI could not start ({err}); {INSTALL_HINT}") from None
+            self.canvas = self.window.get_canvas()
         self.sim = sim
-        self.canvas = self.window.get_canvas()
-        self.scene = self.window.get_scene()
+        self.raster = Rasterizer(*size)
         self.orbit = OrbitCamera()
         self.wireframe = False
         self._build_box(float(sim.params.floor[None]), float(sim.params.wall[None]))
@@ -65,7 +73,7 @@ class SceneRenderer:
                 colors += [TILE_COLORS[(i + k) % 2]] * 6
         self.floor_vertices = _vec_field(np.array(vertices))
         self.floor_colors = _vec_field(np.array(colors))
-        # Given normals: GGUI would otherwise recompute them every frame.
+        # Given normals: the floor is flat.
         self.floor_normals = _vec_field(np.tile([0.0, 1.0, 0.0], (len(vertices), 1)))
         top = floor + 2.0 * wall
         corners = [(-wall, wall), (wall, wall), (wall, -wall), (-wall, -wall)]
@@ -74,34 +82,41 @@ class SceneRenderer:
             nx, nz = corners[(j + 1) % 4]
             lines += [(x, floor, z), (nx, floor, nz), (x, top, z), (nx, top, nz), (x, floor, z), (x, top, z)]
         self.box_lines = _vec_field(np.array(lines))
+        ticks = np.arange(-GRID_HALF_WIDTH, GRID_HALF_WIDTH + 1e-9, GRID_STEP)
+        grid = [[(t, floor, -GRID_HALF_WIDTH), (t, floor, GRID_HALF_WIDTH)] for t in ticks]
+        grid += [[(-GRID_HALF_WIDTH, floor, t), (GRID_HALF_WIDTH, floor, t)] for t in ticks]
+        self.grid_lines = _vec_field(np.array(grid).reshape(-1, 3))
 
     def draw(self) -> None:
-        """Declare the scene for this frame and render it into the canvas."""
-        sim, scene = self.sim, self.scene
-        scene.set_camera(self.orbit.apply())
-        scene.ambient_light((0.35, 0.35, 0.35))
-        scene.point_light(pos=(2.5, 4.0, 3.5), color=(0.75, 0.75, 0.75))
+        """Draw this frame's scene into the picture (and the window's canvas, if shown)."""
+        sim, raster = self.sim, self.raster
+        raster.begin(self.orbit.position(), self.orbit.target, fov_deg=self.orbit.fov, light=LIGHT,
+                     ambient=AMBIENT, background=BACKGROUND)
         if sim.params.walls[None]:
-            scene.mesh(self.floor_vertices, normals=self.floor_normals, per_vertex_color=self.floor_colors,
-                       two_sided=True)
-            scene.lines(self.box_lines, width=2.0, color=BOX_COLOR)
+            raster.mesh(self.floor_vertices, normals=self.floor_normals, per_vertex_color=self.floor_colors,
+                        two_sided=True)
+            raster.lines(self.box_lines, width=2.0, color=BOX_COLOR)
+        else:  # free flight: a grid on the floor plane to see motion against
+            raster.lines(self.grid_lines, width=1.0, color=GRID_COLOR)
         if sim.model.num_faces:
-            scene.mesh(sim.state.surface_x, sim.model.indices, color=BODY_COLOR, two_sided=True,
-                       show_wireframe=self.wireframe, per_vertex_color=self.vertex_colors)
+            raster.mesh(sim.state.surface_x, sim.model.indices, color=BODY_COLOR, two_sided=True,
+                        show_wireframe=self.wireframe, per_vertex_color=self.vertex_colors)
         else:  # a point cloud: draw the particles
-            scene.particles(sim.state.particle_x, radius=0.015, color=BODY_COLOR,
-                            per_vertex_color=self.particle_colors)
-        self.canvas.set_background_color(BACKGROUND)
-        self.canvas.scene(scene)
+            raster.particles(sim.state.particle_x, radius=0.015, color=BODY_COLOR,
+                             per_vertex_color=self.particle_colors)
+        raster.finish()
+        if self.canvas is not None:
+            self.canvas.set_image(raster.image)
 
     def read_rgba(self) -> np.ndarray:
-        """The rendered frame as (H, W, 4) uint8 RGBA, top row first."""
-        return buffer_to_rgba8(self.window.get_image_buffer_as_numpy())
+        """The drawn frame (the scene, without the window's panel) as (H, W, 4) uint8 RGBA, top row first."""
+        return self.raster.read_rgba()
 
     def close(self) -> None:
-        """Destroy the window (GGUI allows a new one afterwards in the same process)."""
-        self.window.destroy()
-        _remove_our_imgui_ini(self._imgui_ini)
+        """Destroy the window, if any (GGUI allows a new one afterwards in the same process)."""
+        if self.window is not None:
+            self.window.destroy()
+            _remove_our_imgui_ini(self._imgui_ini)
 
 
 def _remove_our_imgui_ini(path: Path) -> None:

@@ -1,7 +1,8 @@
 """``--record out.mp4|out.gif``: simulate, render offscreen, encode; no display needed.
 
-Frame i of the video is the state after i simulated frames (i = 1..N), so
-``--frames N`` gives N video frames (an MP4 at 60 fps; a GIF keeps every second
+Frame i of the video is the state after i simulated frames (i = 0..N: frame 0
+is the initial state, labelled t = 0), so ``--frames N`` gives N + 1 video frames,
+one per row of the ``--export`` file (an MP4 at 60 fps; a GIF keeps every second
 one at 30 fps). Each frame carries a line of text: the simulated time and the
 total energy. The file is written under a temporary name and renamed when
 finalised; Ctrl-C or a blow-up finalises it with the frames so far, and a run
@@ -9,10 +10,7 @@ that wrote no frame leaves any earlier file at that path untouched.
 """
 from __future__ import annotations
 
-import contextlib
-import signal
 import sys
-import threading
 from pathlib import Path
 
 from tqdm import tqdm
@@ -20,6 +18,7 @@ from tqdm import tqdm
 from ..run.atomic import atomic_output
 from .encoders import BackgroundWriter, open_writer
 from .imaging import TextOverlay, save_png
+from .interrupt import ctrl_c_between_frames
 from ..run.runner import RunResult, run_frames
 
 
@@ -58,16 +57,14 @@ def _record_frames(sim, renderer, path: Path, frames: int, size, export_path, pr
     try:
         with atomic_output(path) as tmp:
             writer = BackgroundWriter(open_writer(tmp, size, suffix=path.suffix))
-            bar = tqdm(total=frames, unit="frame", desc=f"recording {path.name}", disable=not progress,
+            bar = tqdm(total=frames + 1, unit="frame", desc=f"recording {path.name}", disable=not progress,
                        file=sys.stderr, mininterval=0.5, dynamic_ncols=True)
             try:
-                with _ctrl_c_between_frames() as stop_requested:
+                with ctrl_c_between_frames() as stop_requested:
                     def on_frame(sim, i):
                         nonlocal last
                         if stop_requested():
                             raise KeyboardInterrupt
-                        if i == 0:
-                            return  # the video starts after the first step: N frames for --frames N
                         renderer.draw()
                         frame = renderer.read_rgba()
                         snap = sim.snapshot()
@@ -86,26 +83,3 @@ def _record_frames(sim, renderer, path: Path, frames: int, size, export_path, pr
     except _NothingWritten:
         pass
     return result, writer, last
-
-
-@contextlib.contextmanager
-def _ctrl_c_between_frames():
-    """Ctrl-C sets a flag read between frames, so an encoder is never cut mid-packet.
-
-    A second Ctrl-C interrupts at once (the previous handler comes back).
-    """
-    pressed = threading.Event()
-    previous = signal.getsignal(signal.SIGINT) if threading.current_thread() is threading.main_thread() else None
-    if previous in (None, signal.SIG_IGN):  # not the main thread, or Ctrl-C ignored on purpose (nohup)
-        yield pressed.is_set
-        return
-
-    def handler(signum, frame):
-        pressed.set()
-        signal.signal(signal.SIGINT, previous)
-
-    signal.signal(signal.SIGINT, handler)
-    try:
-        yield pressed.is_set
-    finally:
-        signal.signal(signal.SIGINT, previous)

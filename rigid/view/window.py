@@ -6,6 +6,8 @@ single step is ``n``, not ``.``). Mouse: right-drag orbits, middle-drag zooms.
 The frame loop is ``rigid.run.runner.run_frames``: pausing happens inside its
 ``on_frame`` (we keep drawing without stepping). After a blow-up the window
 stays open, paused, with the message in the panel; a reset starts a new run.
+The window is ``--resolution`` pixels (default 1280x720), as a recording would be.
+Ctrl-C is read between frames, and spares xvfb-run's X server (see interrupt.py).
 """
 from __future__ import annotations
 
@@ -15,47 +17,58 @@ import time
 import taichi as ti
 
 from .imaging import save_png
+from .interrupt import ctrl_c_between_frames, shield_x_server_from_ctrl_c
 from .panel import ControlPanel
 from ..run.runner import RunResult, StopRun, run_frames
 from .vulkan import require_display
 
-WINDOW_SIZE = (1280, 720)
 
+def run_window(sim, frames: int | None = None, export_path=None, screenshot=None, resolution=None) -> RunResult:
+    """Show ``sim`` until the window closes (or for ``frames`` frames); return the last run's result.
 
-def run_window(sim, frames: int | None = None, export_path=None, screenshot=None) -> RunResult:
-    """Show ``sim`` until the window closes (or for ``frames`` frames); return the last run's result."""
+    ``resolution`` (W, H): the window's size; None takes the simulator's ``config.resolution``.
+    """
     require_display()
     from .render import SceneRenderer  # GGUI starts Vulkan: after the display check
 
-    renderer = SceneRenderer(sim, WINDOW_SIZE, offscreen=False, title="Rigid body (HKU COMP3360 A3)",
-                             fps_limit=60)
+    shield_x_server_from_ctrl_c()  # under xvfb-run in a terminal, Ctrl-C would stop the X server too
+    size = tuple(resolution or sim.config.resolution)
+    renderer = SceneRenderer(sim, size, offscreen=False, title="Rigid body (HKU COMP3360 A3)", fps_limit=60)
     renderer.orbit.zoom(1.15)  # a little further out than the video: the panel covers the right
-    loop = _WindowLoop(sim, renderer, screenshot=bool(screenshot), frames=frames)
-    remaining = frames
     try:
-        while True:
-            result = run_frames(sim, remaining, export_path=export_path, on_frame=loop.on_frame)
-            if result.status != "blew-up" or loop.closed:
-                break
-            print(result.message, file=sys.stderr)
-            remaining = None if frames is None else frames - loop.steps
-            if remaining is not None and remaining <= 0:
-                break
-            if not loop.wait_for_reset(result.message):
-                break
-        if screenshot and loop.last_frame is not None:
-            save_png(loop.last_frame, screenshot)
-            print(f"wrote {screenshot}", file=sys.stderr)
-        elif screenshot:
-            print(f"no screenshot: the window closed before frame {frames}", file=sys.stderr)
+        with ctrl_c_between_frames() as interrupted:
+            loop = _WindowLoop(sim, renderer, screenshot=bool(screenshot), frames=frames, interrupted=interrupted)
+            print(f"window open ({size[0]}x{size[1]}): esc closes it, Ctrl-C stops the run; either way the "
+                  f"frames so far are kept", file=sys.stderr, flush=True)
+            return _run_loop(sim, renderer, loop, frames, export_path, screenshot)
     finally:
         renderer.close()
+
+
+def _run_loop(sim, renderer, loop, frames, export_path, screenshot) -> RunResult:
+    remaining = frames
+    while True:
+        result = run_frames(sim, remaining, export_path=export_path, on_frame=loop.on_frame)
+        if result.status != "blew-up" or loop.closed:
+            break
+        print(result.message, file=sys.stderr)
+        remaining = None if frames is None else frames - loop.steps
+        if remaining is not None and remaining <= 0:
+            break
+        if not loop.wait_for_reset(result.message):
+            break
+    if screenshot and loop.last_frame is not None:
+        save_png(loop.last_frame, screenshot)
+        print(f"wrote {screenshot}", file=sys.stderr)
+    elif screenshot:
+        print(f"no screenshot: the window closed before frame {frames}", file=sys.stderr)
     return result
 
 
 class _WindowLoop:
-    def __init__(self, sim, renderer, screenshot: bool, frames: int | None):
+    def __init__(self, sim, renderer, screenshot: bool, frames: int | None, interrupted=lambda: False):
         self.sim, self.renderer, self.window = sim, renderer, renderer.window
+        self.interrupted = interrupted
         self.panel = ControlPanel(sim, seed=sim.config.seed)
         self.screenshot, self.frames = screenshot, frames
         self.last_frame = None
@@ -88,6 +101,8 @@ class _WindowLoop:
         self.panel.message = message[:160]
         self.panel.paused = True
         while True:
+            if self.interrupted():
+                return False
             _actions, _pressed, reset = self._poll()
             if self.closed:
                 return False
@@ -100,6 +115,8 @@ class _WindowLoop:
         Sets ``closed`` on esc or a closed window (then nothing else is acted on); a reset
         from the key or the button rewinds the simulation and clears the panel's message.
         """
+        if self.interrupted():
+            raise KeyboardInterrupt  # run_frames keeps the frames so far
         actions, pressed = self._keys(), self._draw()
         if actions.get("quit") or not self.window.running:
             self.closed = True

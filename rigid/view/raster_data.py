@@ -1,0 +1,85 @@
+"""The software renderer's data: its triangle list, and smooth vertex normals of indexed meshes.
+
+``Triangles``: the projected triangles of one frame (see raster.py).
+
+``VertexNormals``: each vertex's normal is the normalised sum of the area-weighted normals of
+the faces around it, recomputed each frame. The faces around each vertex are listed once
+(numpy, from the index field) so the sum runs in the same order every frame: no float
+atomics, the same picture on every run.
+"""
+# (no "from __future__ import annotations": Taichi reads the kernels' annotations as objects)
+
+import numpy as np
+import taichi as ti
+
+
+@ti.data_oriented
+class Triangles:
+    """Room for ``capacity`` triangles, 3 vertices each: screen x, y, depth key and 1/distance
+    (``vs``), world normal (``vn``), world position (``vp``), colour (``vc``); a kind per triangle.
+
+    Kernels take it as a template argument: a bigger one is a new object, so they are compiled
+    again for it (a kernel keeps the fields it was compiled with, even if an attribute changes).
+    """
+
+    def __init__(self, capacity: int, old=None, keep: int = 0):
+        self.capacity = int(capacity)
+        self.vs = ti.Vector.field(4, ti.f32, shape=3 * self.capacity)
+        self.vn = ti.Vector.field(3, ti.f32, shape=3 * self.capacity)
+        self.vp = ti.Vector.field(3, ti.f32, shape=3 * self.capacity)
+        self.vc = ti.Vector.field(3, ti.f32, shape=3 * self.capacity)
+        self.kind = ti.field(ti.i32, shape=self.capacity)
+        if old is not None and keep:
+            for name in ("vs", "vn", "vp", "vc"):
+                _copy_prefix(getattr(self, name), getattr(old, name), 3 * keep)
+            _copy_prefix(self.kind, old.kind, keep)
+
+
+@ti.data_oriented
+class VertexNormals:
+    def __init__(self):
+        self._cache = {}  # id(vertices), id(indices) -> (vertices, indices, offsets, faces, normals)
+
+    def of(self, vertices, indices):
+        """The normals field (V,) vec3 f32 for this frame's ``vertices`` and the fixed ``indices``."""
+        key = (id(vertices), id(indices))
+        entry = self._cache.get(key)
+        if entry is None:
+            entry = self._cache[key] = (vertices, indices, *_adjacency(indices.to_numpy(), vertices.shape[0]))
+        _, _, offsets, faces, normals = entry
+        _smooth_normals(vertices, indices, offsets, faces, normals)
+        return normals
+
+
+def _adjacency(idx: np.ndarray, num_vertices: int):
+    """Faces around each vertex as fields: offsets (V+1,) into faces (3F,), and the normals field."""
+    idx = idx.reshape(-1).astype(np.int64)
+    face_of = np.repeat(np.arange(len(idx) // 3), 3)
+    order = np.argsort(idx, kind="stable")
+    counts = np.bincount(idx, minlength=num_vertices)
+    offsets = np.concatenate([[0], np.cumsum(counts)]).astype(np.int32)
+    offsets_field = ti.field(ti.i32, shape=num_vertices + 1)
+    offsets_field.from_numpy(offsets)
+    faces_field = ti.field(ti.i32, shape=max(1, len(idx)))
+    faces_field.from_numpy(face_of[order].astype(np.int32) if len(idx) else np.zeros(1, np.int32))
+    return offsets_field, faces_field, ti.Vector.field(3, ti.f32, shape=num_vertices)
+
+
+@ti.kernel
+def _smooth_normals(verts: ti.template(), idx: ti.template(), offsets: ti.template(), faces: ti.template(),
+                    out: ti.template()):
+    for v in range(out.shape[0]):
+        total = ti.Vector([0.0, 0.0, 0.0], ti.f32)
+        for j in range(offsets[v], offsets[v + 1]):
+            f = faces[j]
+            p0 = ti.cast(verts[idx[3 * f]], ti.f32)
+            p1 = ti.cast(verts[idx[3 * f + 1]], ti.f32)
+            p2 = ti.cast(verts[idx[3 * f + 2]], ti.f32)
+            total += (p1 - p0).cross(p2 - p0)
+        out[v] = total.normalized(1e-20)
+
+
+@ti.kernel
+def _copy_prefix(dst: ti.template(), src: ti.template(), n: ti.i32):
+    for i in range(n):
+        dst[i] = src[i]
