@@ -14,6 +14,7 @@ particle and every substep. Run:
     python rigid_body_dynamic.py --headless --frames 300 --export out.npz
     python rigid_body_dynamic.py --record out.mp4 --frames 300
     python rigid_body_dynamic.py --help               # every option
+    python rigid_body_dynamic.py --check              # grade your 7 TODOs before you submit
 
 Useful Taichi calls: a.dot(b) (aᵀb), a.outer_product(b) (a bᵀ), a.cross(b)
 (or ti.math.cross(a, b)), M @ v, M.transpose(), v.norm(),
@@ -123,9 +124,13 @@ def update_angular(angular_momentum, torque, rotation, inertia_body_inv, dt):
 
 
 def main(argv=None):
-    """Run the simulator with the units of this file (see --help)."""
+    """Run the simulator with the units of this file (see --help); --check grades the 7 TODOs."""
     import sys
 
+    if "--check" in (sys.argv[1:] if argv is None else argv):  # the grader's checks, against the answers file
+        from rigid.grading.selfcheck import main as check
+
+        return check(sys.modules[__name__], argv)
     from rigid.cli import main as run
 
     return run(argv, units=sys.modules[__name__])

@@ -1,12 +1,17 @@
-"""The grader end to end through scripts/grade.py, in two batches run side by side.
+"""The grader end to end through scripts/grade.py, in three batches run side by side.
 
 Main batch (a folder of .py files, a subfolder and a zip): the solution scores
 90/90, the handout 0 on every TODO, each wrong variant loses exactly its
 TODO's points with a message naming the mistake, two correct-but-different
 variants score full marks, a print flood and writes to HOME cost nothing.
 Misbehaving batch (--timeout 5): a crash, a sys.exit, an endless loop at
-import, an endless loop inside TODO 6 and a memory hog each lose only their
-own points, within the time limit. Both write JSON and CSV.
+import, an endless loop inside TODO 6 (in both formats) and a memory hog each
+lose only their own points, within the time limit. Original batch: files in
+the course's original handout format (tests/data/original_handout/, detected
+as such): solved and bonus (other parameters, friction, a missing mesh) score
+90/90, unsolved 0, mistakes lose exactly their TODOs with the same diagnoses,
+a zip brings its own mesh. All write JSON and CSV. The self-check (--check)
+then runs on the main batch's files and must agree with grade.py on each.
 """
 import csv
 import json
@@ -18,12 +23,14 @@ from pathlib import Path
 
 import pytest
 
+import grading_original_variants as original
 from conftest import ROOT
 from grading_variants import CORRECT, SOLUTION, WRONG, make
 from rigid.grading.handout import make_handout
 
 MISBEHAVING = ("crash_at_import", "exit_at_import", "hang_at_import", "hang_in_todo6", "memory_hog")
 TIMEOUT = 5
+ORIGINAL = ("solved", "unsolved", "bonus_friction", "mistakes_a")
 
 
 def _grade(folder: Path, out: Path, *extra) -> subprocess.Popen:
@@ -35,9 +42,9 @@ def _grade(folder: Path, out: Path, *extra) -> subprocess.Popen:
 @pytest.fixture(scope="module")
 def batches(tmp_path_factory):
     base = tmp_path_factory.mktemp("grading")
-    main, bad = base / "main", base / "bad"
-    main.mkdir()
-    bad.mkdir()
+    main, bad, orig = base / "main", base / "bad", base / "original"
+    for folder in (main, bad, orig):
+        folder.mkdir()
     for name in [*WRONG, "flood_and_writes"]:
         (main / f"{name}.py").write_text(make(name))
     (main / "solution.py").write_text(SOLUTION)
@@ -50,18 +57,34 @@ def batches(tmp_path_factory):
         z.writestr("__MACOSX/alice/._rigid_body_dynamic.py", "junk")
     for name in MISBEHAVING:
         (bad / f"{name}.py").write_text(make(name))
+    (bad / "orig_hang_in_todo6.py").write_text(original.make("hang_in_todo6"))
+    for name in ORIGINAL:
+        (orig / f"{name}.py").write_text(original.make(name))
+    with zipfile.ZipFile(orig / "3035000002_dan_assignment3.zip", "w") as z:
+        z.writestr("dan/rigid_body_dynamic.py", original.make("mistakes_b"))
+        z.writestr("dan/dan_brick.obj", (ROOT / "assets" / "brick.obj").read_bytes())
+    checked = {n: main / f"{n}.py" for n in [*WRONG, "solution", "handout"]}  # for the self-check
+    checked["bob_folder"] = nested / "rigid_body_dynamic.py"
+    checked["3035123456_alice_assignment3"] = base / "alice.py"
+    checked["3035123456_alice_assignment3"].write_text(make(CORRECT[0]))
     probe = Path.home() / "grader_probe.txt"
     probe.unlink(missing_ok=True)
     start = time.monotonic()
-    procs = {"main": _grade(main, main), "bad": _grade(bad, bad, "--timeout", str(TIMEOUT))}
+    procs = {"main": _grade(main, main), "bad": _grade(bad, bad, "--timeout", str(TIMEOUT)),
+             "original": _grade(orig, orig, "--jobs", "1"),
+             "selfcheck": subprocess.Popen([sys.executable, str(ROOT / "tests" / "grading_selfcheck_worker.py"),
+                                            str(base / "selfcheck.json"), *map(str, checked.values())],
+                                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)}
     outputs = {k: p.communicate(timeout=600) for k, p in procs.items()}
     elapsed = time.monotonic() - start
     for k, p in procs.items():
         assert p.returncode == 0, outputs[k][1]
+    folders = dict(main=main, bad=bad, original=orig)
     result = {k: {Path(r["submission"]).stem: r for r in json.loads((folder / "grades.json").read_text())}
-              for k, folder in (("main", main), ("bad", bad))}
-    return dict(result=result, stdout={k: o[0] for k, o in outputs.items()}, folders=dict(main=main, bad=bad),
-                elapsed=elapsed, probe=probe)
+              for k, folder in folders.items()}
+    selfcheck = json.loads((base / "selfcheck.json").read_text())
+    return dict(result=result, stdout={k: o[0] for k, o in outputs.items()}, folders=folders,
+                elapsed=elapsed, probe=probe, selfcheck={n: selfcheck[str(f)] for n, f in checked.items()})
 
 
 def points(r):
@@ -108,6 +131,9 @@ def test_misbehaving_submissions_lose_only_their_points_within_the_limit(batches
     assert "update_orientation did not finish" in hang6["todos"]["6"]["message"]
     assert res["hang_at_import"]["seconds"] < TIMEOUT + 5
     assert hang6["seconds"] < 2 * TIMEOUT + 20
+    orig6 = res["orig_hang_in_todo6"]  # the original format: the same isolation
+    assert points(orig6)[6] == 0 and orig6["total"] == 75 and orig6["format"] == "original"
+    assert "the code under '# TODO 6:' did not finish" in orig6["todos"]["6"]["message"]
 
 
 def test_csv_has_a_row_per_submission_and_a_column_per_todo(batches):
@@ -121,5 +147,52 @@ def test_csv_has_a_row_per_submission_and_a_column_per_todo(batches):
     wrong = next(r for r in rows if r["submission"].endswith("t2_sign.py"))
     assert (wrong["todo2"], wrong["total"]) == ("0", "80") and "TODO 2" in wrong["feedback"]
     assert "points per TODO" in batches["stdout"]["main"] and "total 90" in batches["stdout"]["main"]
-    print(f"two batches ({len(rows)} + {len(MISBEHAVING)} submissions, --jobs 2 each): "
+    print(f"three batches ({len(rows)} + {len(MISBEHAVING) + 1} + {len(ORIGINAL) + 1} submissions): "
           f"{batches['elapsed']:.1f} s")
+
+
+def test_original_format_solved_bonus_full_unsolved_zero(batches):
+    res = batches["result"]["original"]
+    assert all(r["format"] == "original" for r in res.values())
+    assert all(r["format"] == "project" for r in batches["result"]["main"].values())
+    for name in ("solved", "bonus_friction"):
+        assert res[name]["total"] == 90, (name, res[name]["todos"])
+    assert "agree with the reference lines" in res["solved"]["todos"]["4"]["message"]
+    assert "velocity-first" in res["bonus_friction"]["todos"]["5"]["message"]
+    (note,) = res["bonus_friction"]["notes"]  # it reads my_bunny.obj, which it does not include
+    assert "my_bunny.obj" in note and "sphere.obj" in note
+    assert res["unsolved"]["total"] == 0
+    assert all("not done" in t["message"] for t in res["unsolved"]["todos"].values())
+
+
+@pytest.mark.parametrize("name", sorted(original.WRONG))
+def test_original_format_mistakes_lose_exactly_their_todos(batches, name):
+    res = batches["result"]["original"]
+    r = res[name] if name in res else res["3035000002_dan_assignment3"]
+    for k, t in r["todos"].items():
+        words = original.WRONG[name].get(int(k))
+        assert t["passed"] == (words is None), (k, t["message"])
+        assert words is None or all(w in t["message"] for w in words), t["message"]
+    if name == "mistakes_a":  # two ti.init calls and a ti.GUI loop that never checks gui.running
+        assert any("ti.init 2 times" in n for n in r["notes"])
+    else:  # the zip brings the mesh it reads
+        assert r["notes"] == [] and r["student"] == {"uid": "3035000002", "name": "dan"}
+    rows = list(csv.DictReader((batches["folders"]["original"] / "grades.csv").open(encoding="utf-8")))
+    assert len(rows) == len(res) and any("note: " in row["feedback"] for row in rows)
+
+
+def test_self_check_agrees_with_grade_py(batches):
+    """--check's verdicts (rigid.grading.selfcheck, on the answers file beside the solution; run by
+    tests/grading_selfcheck_worker.py beside the batches) equal grade.py's on every file both saw."""
+    res = batches["result"]["main"]
+    assert len(batches["selfcheck"]) == len(WRONG) + 4
+    for name, mine in batches["selfcheck"].items():
+        theirs = res[name]["todos"]
+        assert not mine["joint"], (name, mine["joint"])
+        everything = all(t["passed"] for t in mine["results"].values())
+        for k, t in mine["results"].items():
+            assert t["passed"] == theirs[k]["passed"], (name, k, t, theirs[k])
+            if everything or not t["passed"]:
+                assert t["message"] == theirs[k]["message"], (name, k)
+            else:  # grade.py adds its simulation's verdict, which --check runs once all 7 pass
+                assert theirs[k]["message"].startswith(t["message"]), (name, k)
