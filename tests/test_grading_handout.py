@@ -1,12 +1,16 @@
-"""The handout: made from the solution, no solution line in it, hints kept, runs headless and sits still."""
+"""The handout: made from the solution, no solution line in it or in its answers file, hints kept, runs
+headless and sits still; its --check (and the solution's) runs the grader's checks against those answers."""
 import os
+import shutil
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
 from conftest import ROOT, SOLUTION
 from rigid.errors import UserError
+from rigid.grading import answers
 from rigid.grading.handout import make_handout, solution_lines
 
 
@@ -32,6 +36,52 @@ def test_no_solution_line_and_every_hint_kept(handout):
     # Outside the TODO blocks nothing changes.
     outside = lambda t: [ln for ln in t.splitlines() if not ln.startswith("    ")]  # noqa: E731
     assert outside(text) == outside(solution)
+
+
+def test_answers_file_holds_numbers_only_and_matches_the_repositorys(handout):
+    data = handout.with_name(answers.FILE_NAME)
+    raw = data.read_bytes()
+    assert not any(line.encode() in raw for line in solution_lines(SOLUTION.read_text()))
+    with np.load(data, allow_pickle=False) as fresh, np.load(ROOT / answers.FILE_NAME) as kept:
+        assert all(np.issubdtype(fresh[key].dtype, np.number) for key in fresh.files)
+        assert sorted(fresh.files) == sorted(kept.files) and any(k.startswith("direct/6/") for k in fresh.files)
+        stale = [k for k in fresh.files if not np.allclose(fresh[k], kept[k], rtol=1e-9, atol=1e-12)]
+    assert not stale, (f"{answers.FILE_NAME} beside the solution is out of date for {stale}: "
+                       f"python scripts/make_handout.py --answers-only")
+
+
+def check(path, cwd):
+    env = dict(os.environ, PYTHONPATH=str(ROOT), PYTHONIOENCODING="utf-8")
+    return subprocess.run([sys.executable, str(path), "--check"], cwd=cwd, env=env, capture_output=True,
+                          text=True, timeout=300)
+
+
+def test_self_check_of_the_handout_and_the_solution(handout):
+    proc = check(handout, handout.parent)
+    lines = proc.stdout.splitlines()
+    assert proc.returncode == 1, proc.stderr
+    todo_lines = [line for line in lines if line.startswith(("✓", "✗"))]
+    assert [line[:9] for line in todo_lines] == [f"✗ TODO {k}:" for k in range(1, 8)]
+    assert all("not done" in line and "placeholder" in line for line in todo_lines)
+    assert "0 of 7 TODOs pass" in lines[-1]
+    proc = check(SOLUTION, ROOT)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert sum(line.startswith("✓ TODO") and "simulation agrees" in line for line in proc.stdout.splitlines()) == 7
+
+
+def test_self_check_without_current_answers_is_one_line(handout, tmp_path):
+    shutil.copy(handout, tmp_path / "rigid_body_dynamic.py")
+    proc = check(tmp_path / "rigid_body_dynamic.py", tmp_path)
+    assert proc.returncode == 2 and proc.stderr.startswith(f"error: no answers file {answers.FILE_NAME}")
+    with np.load(handout.with_name(answers.FILE_NAME)) as data:
+        values = {k: data[k] for k in data.files}
+    values[answers.FINGERPRINT] = values[answers.FINGERPRINT][::-1].copy()  # made for other inputs
+    np.savez(tmp_path / answers.FILE_NAME, **values)
+    with pytest.raises(UserError, match="made for other inputs"):
+        answers.load(tmp_path / answers.FILE_NAME)
+    with pytest.raises(UserError, match="not a readable answers file"):
+        (tmp_path / "junk.npz").write_bytes(b"junk")
+        answers.load(tmp_path / "junk.npz")
 
 
 def test_runs_headless_and_sits_still(handout):
