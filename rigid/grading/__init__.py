@@ -5,7 +5,9 @@
 - batch.py        grade many in parallel, one sandboxed child process each (sandbox.py)
 - child.py        inside the child: import the submission, check each TODO, report events
 - specs.py, direct.py, diagnose.py, mistakes.py, trajectory.py, alternatives.py  the checks
+- original/       submissions written for the course's original handout (a module-level script)
 - report.py       the terminal table, JSON and CSV
+- answers.py, selfcheck.py  the answers file beside the handout and ``rigid_body_dynamic.py --check``
 
 This package imports nothing heavy at import time: the child sets its resource
 limits before numpy and Taichi load. May import the base modules, ``bodies``, ``engine`` and
