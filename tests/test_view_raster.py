@@ -95,3 +95,35 @@ def test_more_triangles_than_its_first_room_keeps_every_draw(ti_cpu):
     assert tuple(both[1][H // 2, W // 2, :3]) == tuple(first[H // 2, W // 2, :3]) == (255, 0, 0)
     blue = (both[1][..., 2] == 255) & (both[1][..., 0] == 0)
     assert blue.sum() > 20 and not ((first[..., 2] == 255) & (first[..., 0] == 0)).any()
+
+
+FP64_DRAW = """
+import numpy as np, taichi as ti
+from rigid.runtime import init_taichi
+init_taichi("cpu", fp64=True)
+from rigid.view.raster import Rasterizer
+points = ti.Vector.field(3, ti.f64, shape=6)
+points.from_numpy(np.array([(-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, -1, 0), (1, 1, 0), (-1, 1, 0)], float))
+raster = Rasterizer(32, 24)
+raster.begin((0.0, 0.0, 3.0), (0.0, 0.0, 0.0))
+raster.mesh(points, per_vertex_color=points, show_wireframe=True)
+raster.lines(points)
+raster.particles(points, radius=0.1, per_vertex_color=points)
+raster.finish()
+print((raster.read_rgba()[..., :3] != 255).sum())
+"""
+
+
+def test_float64_fields_draw_without_precision_warnings(tmp_path):
+    """--fp64 makes Taichi's float literals f64; the renderer still stores f32 (it crashed before)."""
+    import os
+    import subprocess
+    import sys
+
+    from conftest import ROOT
+
+    env = dict(os.environ, TI_OFFLINE_CACHE_FILE_PATH=str(tmp_path))  # compile afresh: warnings show then
+    proc = subprocess.run([sys.executable, "-c", FP64_DRAW], cwd=ROOT, env=env, capture_output=True, text=True,
+                          timeout=120)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    assert int(proc.stdout.split()[-1]) > 100 and "precision" not in proc.stderr, proc.stderr[-3000:]

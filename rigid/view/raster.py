@@ -121,9 +121,10 @@ class Rasterizer:
         ok = dist > NEAR
         q = 1.0 / ti.max(dist, NEAR)
         f = self.cam[8][0]
-        tris.vs[slot] = ti.Vector([0.5 * self.width + f * rel.dot(self.cam[1]) * q,
-                                   0.5 * self.height + f * rel.dot(self.cam[2]) * q, 1.0 - NEAR * q, q])
-        tris.vp[slot] = p
+        screen = ti.Vector([0.5 * self.width + f * rel.dot(self.cam[1]) * q,
+                            0.5 * self.height + f * rel.dot(self.cam[2]) * q, 1.0 - NEAR * q, q])
+        tris.vs[slot] = ti.cast(screen, ti.f32)  # (literals are f64 under --fp64: cast where stored)
+        tris.vp[slot] = ti.cast(p, ti.f32)
         return ok
 
     @ti.kernel
@@ -139,7 +140,7 @@ class Rasterizer:
             for k in ti.static(range(3)):
                 slot = 3 * (base + t) + k
                 ok = self._project(tris, ti.cast(verts[ids[k]], ti.f32), slot, 0.0) and ok
-                tris.vn[slot] = face
+                tris.vn[slot] = ti.cast(face, ti.f32)
                 if ti.static(nrm != 0):
                     tris.vn[slot] = ti.cast(nrm[ids[k]], ti.f32)
                 tris.vc[slot] = color
@@ -159,8 +160,8 @@ class Rasterizer:
         offset = ti.Vector([side[0], side[1], 0.0, 0.0])
         corners = [a - offset, a + offset, b + offset, b - offset]
         for k in ti.static(range(3)):  # (a-, a+, b+) and (a-, b+, b-)
-            tris.vs[s + k] = corners[k]
-            tris.vs[s + 3 + k] = corners[(0, 2, 3)[k]]
+            tris.vs[s + k] = ti.cast(corners[k], ti.f32)
+            tris.vs[s + 3 + k] = ti.cast(corners[(0, 2, 3)[k]], ti.f32)
         for k in ti.static(range(6)):
             tris.vc[s + k] = color
         tris.kind[tri] = FLAT if ok else CULLED
@@ -197,12 +198,12 @@ class Rasterizer:
                 tri = base + 8 * i + k
                 s = 3 * tri
                 ok = self._project(tris, c, s, 0.0)
-                tris.vn[s] = toward_eye
+                tris.vn[s] = ti.cast(toward_eye, ti.f32)
                 for j in ti.static(range(2)):
                     angle = 2.0 * math.pi * (k + j) / 8.0
                     rim = ti.cos(angle) * self.cam[1] + ti.sin(angle) * self.cam[2]
                     ok = self._project(tris, c + radius * rim, s + 1 + j, 0.0) and ok
-                    tris.vn[s + 1 + j] = rim
+                    tris.vn[s + 1 + j] = ti.cast(rim, ti.f32)
                 for j in ti.static(range(3)):
                     tris.vc[s + j] = rgb
                 tris.kind[tri] = LIT if ok else CULLED
@@ -233,7 +234,7 @@ class Rasterizer:
                             w2 = sign * _edge(a, b, px, py)
                             if w0 >= 0 and w1 >= 0 and w2 >= 0:
                                 depth = (w0 * a[2] + w1 * b[2] + w2 * c[2]) / (sign * area)
-                                bits = ti.cast(ti.bit_cast(ti.max(depth, 0.0), ti.i32), ti.i64)
+                                bits = ti.cast(ti.bit_cast(ti.cast(ti.max(depth, 0.0), ti.f32), ti.i32), ti.i64)
                                 ti.atomic_min(self.key[x, y], (bits << 32) | ti.cast(t, ti.i64))
 
     @ti.kernel
@@ -241,7 +242,7 @@ class Rasterizer:
         eye, light, light_color, ambient, background = self.cam[0], self.cam[4], self.cam[5], self.cam[6], self.cam[7]
         for x, y in self.key:
             key = self.key[x, y]
-            rgb = background
+            rgb = background * 1.0  # in the default float type (f64 under --fp64), like what follows
             if key != ti.i64(EMPTY):
                 t = ti.cast(key & ti.i64(0xFFFFFFFF), ti.i32)
                 a, b, c = tris.vs[3 * t], tris.vs[3 * t + 1], tris.vs[3 * t + 2]

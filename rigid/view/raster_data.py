@@ -76,7 +76,7 @@ def _smooth_normals(verts: ti.template(), idx: ti.template(), offsets: ti.templa
             p1 = ti.cast(verts[idx[3 * f + 1]], ti.f32)
             p2 = ti.cast(verts[idx[3 * f + 2]], ti.f32)
             total += (p1 - p0).cross(p2 - p0)
-        out[v] = total.normalized(1e-20)
+        out[v] = ti.cast(total.normalized(1e-20), ti.f32)
 
 
 @ti.kernel
