@@ -85,7 +85,7 @@ def main(argv=None):
     p.add_argument("--file-mb", type=int, default=64)
     p.add_argument("--todos", default="1,2,3,4,5,6,7")
     p.add_argument("--per-todo-trajectories", action="store_true")
-    p.add_argument("--format", choices=("project", "original"), default="project",
+    p.add_argument("--format", choices=("project", "original"), default="project",  # original.detect.FORMATS
                    help="project: the TODO functions of rigid_body_dynamic.py; original: the course's "
                         "module-level script (original/)")
     p.add_argument("--renames", default="{}", metavar="JSON",

@@ -12,6 +12,7 @@ from pathlib import Path
 from ..run.atomic import check_output_path
 from ..config import REPO_ROOT
 from ..errors import UserError
+from .original.detect import FORMATS
 from .specs import DEFAULT_POINTS, TODOS
 
 MIN_MEMORY_MB = 2048  # measured: a grading child fails at 1536 MB and passes at 1792 MB (RLIMIT_AS)
@@ -40,7 +41,7 @@ def build_parser() -> argparse.ArgumentParser:
                         f"Taichi's LLVM alone needs ~1800)")
     p.add_argument("--reference", default=str(REPO_ROOT / "rigid_body_dynamic.py"), metavar="FILE",
                    help="the solution to grade against (default: the repository's rigid_body_dynamic.py)")
-    p.add_argument("--format", choices=("auto", "project", "original"), default="auto",
+    p.add_argument("--format", choices=("auto", *FORMATS), default="auto",
                    help="the handout the submissions were written for: project (the TODO functions of this "
                         "repository's rigid_body_dynamic.py), original (the course's module-level script with "
                         "global fields and kernels initial() and substep()), or auto: detect it per submission "
