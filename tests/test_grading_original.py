@@ -109,3 +109,26 @@ def test_headless_window_runs_n_frames_and_stops_a_loop_that_ignores_it():
         assert len(recorder.rows) == 3
     finally:
         headless.State.recorder = None
+
+
+def test_harness_kernels_parse_and_know_when_they_cannot_vary_dt():
+    import ast
+
+    import numpy as np
+
+    from rigid.engine.rotation import quaternion_to_matrix_np
+    from rigid.grading.original import harness
+
+    model = FileModel(make("bonus_friction"))
+    for k in model.regions:
+        source = "".join(harness.kernel(k, model))
+        ast.parse(source)
+        assert f"def grader_todo{k}(dt: ti.f64, particle_mass: ti.f64, gravity:" in source
+    assert "total_force = ti.Vector([grader_in[" in "".join(harness.kernel(5, model))  # the student's name
+    text = SOLVED.replace("dt = 1e-3\n", "dt = 1e-3\nhalf_dt = 0.5 * dt\n\n\ndef scaled(x):\n    return dt * x\n")
+    assert harness.blocked_by(text, ["body_cm_position[None] += half_dt * body_velocity[None]"]) == "half_dt"
+    assert harness.blocked_by(text, ["body_cm_position[None] += scaled(body_velocity[None])"]) == "scaled"
+    assert harness.blocked_by(text, ["body_cm_position[None] += dt * body_velocity[None]  # half_dt"]) is None
+    q = np.array([0.3, -0.5, 0.1, 0.8]) / np.linalg.norm([0.3, -0.5, 0.1, 0.8])
+    assert np.allclose(quaternion_to_matrix_np(harness.matrix_to_quaternion(quaternion_to_matrix_np(q))),
+                       quaternion_to_matrix_np(q))
