@@ -2,11 +2,12 @@
 
 Why not GGUI's 3D scene: on Mesa's lavapipe 22.3 (Debian 12's software Vulkan) every draw of
 ``scene.mesh``, ``scene.particles`` or ``scene.lines`` keeps ~100-300 KB until the window is
-destroyed. Lavapipe inlines uniform values into those shaders (they loop over the lights):
-each draw whose uniform buffer changed clones the shader's NIR under the pipeline and builds a
-new shader state (``update_inline_shader_state`` in ``lavapipe/lvp_execute.c``); GGUI binds a
-fresh uniform buffer for every draw and keeps its pipelines for the window's life, so nothing is
-freed. GGUI's 2D ``canvas.set_image`` uses a small shader that is never inlined and does not grow.
+destroyed. Lavapipe inlines uniform values into shaders that branch or loop on them (GGUI's
+mesh and particle shaders loop to ``point_light_count``): each draw whose uniform buffer
+changed clones the shader's NIR under the pipeline and builds a new shader state
+(``update_inline_shader_state`` in ``lavapipe/lvp_execute.c``). GGUI 1.7.4 makes a new
+renderable with fresh uniform buffers for every draw and keeps its pipelines for the window's
+life, so nothing is freed. GGUI's 2D ``canvas.set_image`` uses a small shader that is never inlined and does not grow.
 So the scene is drawn here into ``image`` and the window only shows it.
 
 A frame: ``begin`` (camera and light), any number of ``mesh``/``lines``/``particles`` calls
