@@ -68,7 +68,8 @@ def run_frames(sim, frames: int | None, export_path=None, on_frame=None, check_e
                                        f"blow-up at t = {sim.time:.4g} s (frame {i}): {problem}; "
                                        f"{stability_hint(cfg)}")
                     break
-                trajectory.append(row)
+                if export_path:  # rows are kept only for an export: a window left open stays in constant memory
+                    trajectory.append(row)
             result.frames = i
             if on_frame is not None and on_frame(sim, i):
                 e0, bound = _energy_baseline(sim)
