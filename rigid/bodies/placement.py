@@ -8,7 +8,7 @@ as the box allows (walls on; 125 spheres of 0.15 m make 5 x 5 x 5) or a cube of
 copies (walls off), layers stacked upward. Each copy gets a seeded random orientation unless ``orientation`` is
 given (``seed`` + entry index: the same scene gives the same pile).
 
-Collision radius between bodies (``particle_radius``, or from the spacing):
+Collision radius between bodies (``particle_radius``, or from the spacing; one body has none):
 half the largest nearest-neighbour distance among the body's particles. Every
 particle then touches its nearest neighbour, so the spheres leave no channel a
 particle of the same size could pass through. Volume particles (one per grid
@@ -24,6 +24,7 @@ import numpy as np
 
 from ..errors import UserError
 from .mesh import BodyGeometry, body_geometry
+from .quaternion import quaternion_to_matrix_np
 
 
 @dataclass
@@ -60,7 +61,7 @@ def scene_bodies(config) -> list[BodySpec]:
         if key not in cache:
             cache[key] = body_geometry(body)
         geometry = cache[key]
-        radius = body.particle_radius or spacing_radius(geometry.particles)
+        radius = body.particle_radius or (spacing_radius(geometry.particles) if config.many_bodies else 0.0)
         stem = _stem(body.mesh)
         given = "orientation" in (config.bodies[entry] if config.bodies else {}) or \
             tuple(body.orientation) != (1.0, 0.0, 0.0, 0.0)
@@ -137,10 +138,7 @@ def _stem(mesh: str) -> str:
 
 def world_particles(body: BodySpec) -> np.ndarray:
     """The body's particles (N, 3) at its initial pose: x + R (p - centre of mass)."""
-    from scipy.spatial.transform import Rotation
-
-    w, x, y, z = body.orientation
-    R = Rotation.from_quat([x, y, z, w]).as_matrix()  # scipy is scalar last
+    R = quaternion_to_matrix_np(body.orientation)
     return body.position + (body.geometry.particles - body.centre_of_mass) @ R.T
 
 

@@ -6,6 +6,8 @@ Quaternions are scalar first: q = [s, vx, vy, vz]. Both helpers are pure
 import numpy as np
 import taichi as ti
 
+from ..bodies.quaternion import quaternion_to_matrix_np  # noqa: F401 (the numpy twin)
+
 
 @ti.func
 def quaternion_multiplication(p, q):
@@ -34,8 +36,3 @@ def quaternion_multiplication_np(p, q):
                      p0 * q3 + p1 * q2 - p2 * q1 + p3 * q0])
 
 
-def quaternion_to_matrix_np(q):
-    w, x, y, z = np.asarray(q, dtype=np.float64) / np.linalg.norm(q)
-    return np.array([[w * w + x * x - y * y - z * z, 2 * (x * y - w * z), 2 * (x * z + w * y)],
-                     [2 * (x * y + w * z), w * w - x * x + y * y - z * z, 2 * (y * z - w * x)],
-                     [2 * (x * z - w * y), 2 * (y * z + w * x), w * w - x * x - y * y + z * z]])
