@@ -46,7 +46,7 @@ class NeighbourGrid:
         self._build_funcs()
 
     def _build_funcs(self):
-        D, C, mask = self.dim, self.num_cells, self.dim - 1
+        D, mask = self.dim, self.dim - 1
         inv_h = 1.0 / self.cell_size
         count, start, cursor = self.cell_count, self.cell_start, self.cell_cursor
         cell_of, order = self.particle_cell, self.sorted_particle
@@ -110,4 +110,3 @@ class NeighbourGrid:
 
         self.cell_coords, self.cell_index, self.clear_cell, self.insert = cell_coords, cell_index, clear_cell, insert
         self.open_cell, self.scatter, self.sort_cell, self.row_range = open_cell, scatter, sort_cell, row_range
-        self.num_cells = C

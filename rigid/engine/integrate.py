@@ -32,7 +32,6 @@ import taichi as ti
 
 from .blocks import ParticleBlocks
 from .matvec import matvec
-from .rotation import quaternion_to_matrix
 from .updates import make_updates
 from .wrench import make_wrench
 
@@ -82,7 +81,7 @@ class Integrator:
         # Forces per particle through the TODO units, summed block by block (wrench.py).
         particle_force, _reach, _block_wrench, body_wrench = make_wrench(model, prm, self.blocks, u)
 
-        store, euler_update, symplectic_update, init_body = make_updates(model, s, u)
+        store, euler_update, symplectic_update, init_body, impulse = make_updates(model, s, u)
 
         update = symplectic_update if scheme == "symplectic" else euler_update
 
@@ -154,13 +153,9 @@ class Integrator:
 
         @ti.kernel
         def apply_impulse(i: ti.i32, J: ti.types.vector(3, float)):
-            # An instantaneous impulse J (N s, world) at particle i: ΔP = J, ΔL = (R r0ᵢ) × J
-            # about x; store() refreshes v, I⁻¹ and ω through TODO 7, as init_state does.
             ti.loop_config(serialize=True)
             for _ in range(1):
-                b = model.particle_body[i]
-                r = s.R[b] @ model.r0[i]
-                store(b, s.x[b], s.q[b], s.P[b] + J, s.L[b] + r.cross(J))
+                impulse(i, J)  # updates.py
             write_particles_serial()
 
         self.advance_serial = advance_serial

@@ -52,8 +52,6 @@ class Model:
         self.r0_np = np.concatenate([np.asarray(b.particles, np.float64) - c for b, c in zip(bodies, coms)])
         self.surfaces_np = [np.asarray(b.surface, np.float64).reshape(-1, 3) - c for b, c in zip(bodies, coms)]
         self.faces_list = [np.asarray(b.faces, np.int32).reshape(-1, 3) for b in bodies]
-        self.surface_np = self.surfaces_np[0]
-        self.faces_np = self.faces_list[0]
         self.body_names = [b.name for b in bodies]
         self.body_mass_np = np.array([b.particle_mass * c for b, c in zip(bodies, counts)], np.float64)
         self.mass = float(self.body_mass_np[0]) if B == 1 else float(self.body_mass_np.sum())

@@ -7,7 +7,9 @@
   old P (TODO 5), q from the old ω (TODO 6), then L, I⁻¹, ω with the new R (TODO 7);
 - ``symplectic_update(b, dt, F, τ)``: semi-implicit Euler: P and L first, then x
   and q move with the new v and ω (the same units, called in another order);
-- ``init_body(b, x, q, v, ω)``: the initial state; L = R I0 Rᵀ ω (ω in the world frame).
+- ``init_body(b, x, q, v, ω)``: the initial state; L = R I0 Rᵀ ω (ω in the world frame);
+- ``impulse(i, J)``: an instantaneous impulse J (N s, world) at particle i of its body:
+  ΔP = J, ΔL = (R r0ᵢ) × J about x; v, I⁻¹ and ω refreshed through TODO 7.
 """
 import taichi as ti
 
@@ -55,4 +57,10 @@ def make_updates(model, state, units):
         L = matvec(R, matvec(model.inertia_body[b], matvec(R.transpose(), omega)))
         store(b, x, q, model.body_mass[b] * v, L)
 
-    return store, euler_update, symplectic_update, init_body
+    @ti.func
+    def impulse(i, J):
+        b = model.particle_body[i]
+        r = matvec(s.R[b], model.r0[i])
+        store(b, s.x[b], s.q[b], s.P[b] + J, s.L[b] + r.cross(J))
+
+    return store, euler_update, symplectic_update, init_body, impulse

@@ -48,16 +48,15 @@ class WorldIntegrator:
         self.grid = NeighbourGrid(n, 2.0 * max(float(model.radius_np.max()), 1e-6))
         self.particle_f = ti.Vector.field(3, float, shape=n)
         self.particle_couple = ti.Vector.field(3, float, shape=n)
-        self.particle_energy = ti.field(float, shape=n)
         self.serial = world_uses_serial(n) if serial is None else bool(serial)
         self._graphs = {}
         self._build(units)
 
     def _build(self, u):
         model, s, prm, grid = self.model, self.state, self.params, self.grid
-        f_out, couple_out, energy_out = self.particle_f, self.particle_couple, self.particle_energy
+        f_out, couple_out = self.particle_f, self.particle_couple
         N, B, C, V = model.num_particles, model.num_bodies, grid.num_cells, model.num_surface
-        store, euler_update, symplectic_update, init_body = make_updates(model, s, u)
+        store, euler_update, symplectic_update, init_body, impulse = make_updates(model, s, u)
         update = symplectic_update if self.scheme == "symplectic" else euler_update
 
         @ti.func
@@ -112,8 +111,8 @@ class WorldIntegrator:
 
         @ti.func
         def store_force(i):
-            f, couple, energy = particle_force(i)
-            f_out[i], couple_out[i], energy_out[i] = f, couple, energy
+            f, couple, _energy = particle_force(i)
+            f_out[i], couple_out[i] = f, couple
 
         @ti.func
         def body_step(b, dt):
@@ -132,17 +131,26 @@ class WorldIntegrator:
             b = model.surface_body[k]
             s.surface_x[k] = s.x[b] + matvec(s.R[b], model.surface_r0[k])
 
-        @ti.func
-        def place_all_serial():
-            for c in range(C):
-                grid.clear_cell(c)
-            for i in range(N):
-                place_particle(i)
-            grid.scan_serial()
-            for c in range(C):
-                grid.open_cell(c)
-            for i in range(N):  # in index order: every cell is already sorted
-                grid.scatter(i)
+        def make_place_all(scan):
+            """Stages 1 and 2 as one ti.func: at a kernel's top level its loops run in parallel
+            (then the scatter order varies and the cells need sort_cell), in a serial loop in
+            index order (every cell comes out sorted)."""
+
+            @ti.func
+            def place_all():
+                for c in range(C):
+                    grid.clear_cell(c)
+                for i in range(N):
+                    place_particle(i)
+                scan()
+                for c in range(C):
+                    grid.open_cell(c)
+                for i in range(N):
+                    grid.scatter(i)
+
+            return place_all
+
+        place_all_serial, place_all_parallel = make_place_all(grid.scan_serial), make_place_all(grid.scan_parallel)
 
         @ti.kernel
         def frame_serial(n: ti.i32):
@@ -161,15 +169,7 @@ class WorldIntegrator:
 
         @ti.kernel
         def place_parallel():
-            for c in range(C):
-                grid.clear_cell(c)
-            for i in range(N):
-                place_particle(i)
-            grid.scan_parallel()
-            for c in range(C):
-                grid.open_cell(c)
-            for i in range(N):
-                grid.scatter(i)
+            place_all_parallel()
             for c in range(C):
                 grid.sort_cell(c)
 
@@ -208,9 +208,7 @@ class WorldIntegrator:
         def kick(i: ti.i32, J: ti.types.vector(3, float)):
             ti.loop_config(serialize=True)
             for _ in range(1):
-                b = model.particle_body[i]
-                r = matvec(s.R[b], model.r0[i])
-                store(b, s.x[b], s.q[b], s.P[b] + J, s.L[b] + r.cross(J))
+                impulse(i, J)  # updates.py
 
         self.frame_serial, self.place_parallel = frame_serial, place_parallel
         self.forces_and_bodies, self.finish_parallel = forces_and_bodies, finish_parallel
