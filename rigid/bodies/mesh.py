@@ -8,6 +8,9 @@ handout's sphere.obj gives 42, not 240). Vertices at the same point are merged (
 occurrence kept, faces re-indexed): an STL stores each triangle's own three corners, and
 glTF or OBJ exporters split vertices at UV or normal seams, so without merging a box would
 weigh 36 or 24 particles instead of 8. ``Mesh.note`` says what was merged.
+
+A file holding several meshes (a GLB's nodes, an ASCII STL's solids) is joined into one
+here; rigid.bodies.group reads it as one body per mesh, and scenes use that.
 """
 from __future__ import annotations
 
@@ -56,13 +59,19 @@ def read_mesh(path: str | Path, scale: float = 1.0) -> Mesh:
         vertices, faces = plain
     else:
         vertices, faces = _load_with_trimesh(path)
+    return checked_mesh(path, vertices, faces, scale)
+
+
+def checked_mesh(path: Path, vertices: np.ndarray, faces: np.ndarray, scale: float, where: str = "") -> Mesh:
+    """A Mesh of vertices and faces read from ``path``: checked, coincident vertices merged, scaled
+    (``where``: which mesh of the file, e.g. ", mesh 'box'", for the messages)."""
     if vertices.ndim != 2 or len(vertices) == 0:
-        raise UserError(f"mesh file {path} has no vertices (empty, or not a valid {path.suffix} file); "
+        raise UserError(f"mesh file {path}{where} has no vertices (empty, or not a valid {path.suffix} file); "
                         f"use a mesh with vertices that span a volume")
     if not np.all(np.isfinite(vertices)):
-        raise UserError(f"mesh file {path} has non-finite vertex coordinates; repair the file")
+        raise UserError(f"mesh file {path}{where} has non-finite vertex coordinates; repair the file")
     if len(faces) and (faces.min() < 0 or faces.max() >= len(vertices)):
-        raise UserError(f"mesh file {path} has faces that index missing vertices; repair the file")
+        raise UserError(f"mesh file {path}{where} has faces that index missing vertices; repair the file")
     vertices, faces, note = merge_coincident(vertices, faces, stl=path.suffix.lower() == ".stl")
     return Mesh(vertices * float(scale), faces.astype(np.int32), note)
 
@@ -139,11 +148,17 @@ class BodyGeometry:
 
 
 def body_geometry(config) -> BodyGeometry:
-    """Load the config's mesh and make its particles; every input error is raised here, before Taichi."""
+    """Load the config's mesh and make its particles; every input error is raised here, before Taichi.
+    A file holding several meshes is joined here: rigid.bodies.group makes one body of each."""
     mesh = read_mesh(config.mesh, config.scale)
+    return mesh_geometry(mesh, Path(config.mesh).name, config)
+
+
+def mesh_geometry(mesh: Mesh, name: str, config) -> BodyGeometry:
+    """Particles of a mesh read (config: particles, grid) and the note on them; ``name`` names
+    the mesh in the note ("box.stl", or "mesh 'box' of parts.glb")."""
     particles = make_particles(mesh.vertices, mesh.faces, config.particles, config.grid)
     check_not_degenerate(particles, mesh.note)
-    name = Path(config.mesh).name
     if config.particles == "vertex":
         note = f"{len(particles)} particles at the vertices of {name}" + (f" ({mesh.note})" if mesh.note else "")
     else:

@@ -6,7 +6,10 @@ each table is a body entry whose unset keys come from the top level, and
 whose first layer is centred on the entry's ``position``: square layers as wide
 as the box allows (walls on; 125 spheres of 0.15 m make 5 x 5 x 5) or a cube of
 copies (walls off), layers stacked upward. Each copy gets a seeded random orientation unless ``orientation`` is
-given (``seed`` + entry index: the same scene gives the same pile).
+given (``seed`` + entry index: the same scene gives the same pile). A mesh file holding
+several meshes (a GLB's nodes) is several bodies (rigid.bodies.group) placed as one group:
+its centre of mass at ``position``, turned by ``orientation`` about it, moving as one rigid
+body with the entry's velocity and angular velocity; ``count`` copies the group.
 
 Collision radius between bodies (``particle_radius``, or from the spacing; one body has none):
 half the largest nearest-neighbour distance among the body's particles. Every
@@ -23,7 +26,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import UserError
-from .mesh import BodyGeometry, body_geometry
+from .group import entry_geometries, group_centre
+from .mesh import BodyGeometry
 from .quaternion import quaternion_to_matrix_np
 
 
@@ -52,33 +56,53 @@ class BodySpec:
 
 
 def scene_bodies(config) -> list[BodySpec]:
-    """Every body of the scene, copies expanded; raises UserError for bad meshes or placements."""
+    """Every body of the scene, copies and meshes of a file expanded; raises UserError for bad
+    meshes or placements. A file of several meshes is a group placed as one (rigid.bodies.group)."""
     cache: dict = {}
     bodies: list[BodySpec] = []
     for entry in range(config.num_body_entries):
         body = config.body_config(entry)
         key = (body.mesh, body.scale, body.particles, body.grid)
         if key not in cache:
-            cache[key] = body_geometry(body)
-        geometry = cache[key]
-        radius = body.particle_radius or (spacing_radius(geometry.particles) if config.many_bodies else 0.0)
+            cache[key] = entry_geometries(body)
+        parts = cache[key]
         stem = _stem(body.mesh)
         given = "orientation" in (config.bodies[entry] if config.bodies else {}) or \
             tuple(body.orientation) != (1.0, 0.0, 0.0, 0.0)
         rng = np.random.default_rng(config.seed + entry)
-        template = BodySpec(stem, geometry, body.particle_mass, radius, np.asarray(body.position, float),
-                            np.asarray(body.orientation, float), np.asarray(body.initial_velocity, float),
-                            np.asarray(body.initial_angular_velocity, float))
-        slots = lattice(np.asarray(body.position, float), body.count, 2.0 * template.reach * 1.02,
+        templates = [BodySpec(part, geometry, body.particle_mass, _radius(body, geometry, config.many_bodies),
+                              np.asarray(body.position, float), np.asarray(body.orientation, float),
+                              np.asarray(body.initial_velocity, float),
+                              np.asarray(body.initial_angular_velocity, float)) for part, geometry in parts]
+        template = templates[0]
+        if len(parts) == 1:
+            reach = template.reach
+        else:
+            centre = group_centre([t.geometry for t in templates])
+            offsets = [t.centre_of_mass - centre for t in templates]
+            reach = max(t.reach + float(np.linalg.norm(o)) for t, o in zip(templates, offsets))
+        slots = lattice(np.asarray(body.position, float), body.count, 2.0 * reach * 1.02,
                         config.wall if config.walls else None)
         for k, slot in enumerate(slots):
             q = template.orientation if given or body.count == 1 else random_orientation(rng)
             name = f"{stem}_{entry}_{k}" if body.count > 1 else f"{stem}_{entry}"
-            bodies.append(BodySpec(name, geometry, body.particle_mass, radius, slot, q,
-                                   template.velocity, template.angular_velocity))
+            if len(parts) == 1:
+                bodies.append(BodySpec(name, template.geometry, body.particle_mass, template.radius, slot, q,
+                                       template.velocity, template.angular_velocity))
+                continue
+            R = quaternion_to_matrix_np(q)
+            for t, offset in zip(templates, offsets):  # the group turned about its centre, moving rigidly
+                arm = R @ offset
+                bodies.append(BodySpec(f"{name}_{t.name}", t.geometry, t.particle_mass, t.radius, slot + arm, q,
+                                       t.velocity + np.cross(t.angular_velocity, arm), t.angular_velocity))
     if len(bodies) == 1:
         bodies[0].name = "body"
     return bodies
+
+
+def _radius(body, geometry: BodyGeometry, many: bool) -> float:
+    """Collision radius of the body's particles: particle_radius, or from the spacing (many bodies)."""
+    return body.particle_radius or (spacing_radius(geometry.particles) if many else 0.0)
 
 
 def spacing_radius(particles: np.ndarray) -> float:
