@@ -156,15 +156,15 @@ def _run(args, units) -> int:
 
 
 def _summary(sim, result, backend) -> None:
-    snap = sim.snapshot()
+    snap = result.last_row or sim.snapshot()  # a blow-up reports the last good frame
     energy = f"E = {snap['kinetic_energy'] + snap['potential_energy']:.4g} J"
     if sim.many:
         x = snap["x"]
-        print(f"{result.frames} frames, t = {sim.time:.3f} s on {backend} ({sim.model.num_bodies} bodies, "
+        print(f"{result.frames} frames, t = {snap['t']:.3f} s on {backend} ({sim.model.num_bodies} bodies, "
               f"{sim.model.num_particles} particles, {sim.substeps} substeps/frame): centres of mass from "
               f"{x.min(axis=0).round(3).tolist()} to {x.max(axis=0).round(3).tolist()}, {energy}")
         return
-    print(f"{result.frames} frames, t = {sim.time:.3f} s on {backend} ({sim.model.num_particles} particles, "
+    print(f"{result.frames} frames, t = {snap['t']:.3f} s on {backend} ({sim.model.num_particles} particles, "
           f"{sim.substeps} substeps/frame): x = {snap['x'].round(4).tolist()}, {energy}")
     if result.message:
         print(result.message, file=sys.stderr)

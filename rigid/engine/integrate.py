@@ -18,7 +18,8 @@ from (x, R), and ``write_particles`` stores them once per frame.
 "symplectic" (semi-implicit Euler) updates P and L first, then moves x and q
 with the new v and ω; it reuses the same units. "rk4" lives in rk4.py.
 
-Two paths run a frame (``advance``), chosen by particle count:
+Two paths run a frame (``advance``), chosen by particle count; ``advance_recorded``
+runs frames in chunks, each frame followed by its row (frame_rows.py):
 - serial (``advance_serial``): one launch, one thread, every substep of every
   body; the particle sum runs block by block (wrench.py, blocks.py); launched
   through a one-kernel ``ti.graph`` (1/6 of a Python kernel call's overhead);
@@ -31,6 +32,7 @@ import os
 import taichi as ti
 
 from .blocks import ParticleBlocks
+from .frame_rows import ChunkGraphs, FrameRows, make_record_kernel
 from .matvec import matvec
 from .updates import make_updates
 from .wrench import make_wrench
@@ -62,9 +64,11 @@ def parallel_threshold() -> int:
 
 
 class Integrator:
-    def __init__(self, model, state, params, units, scheme: str = "euler", parallel=None):
-        """``parallel``: None chooses by particle count, True/False force a path (where the scheme has it)."""
+    def __init__(self, model, state, params, units, scheme: str = "euler", parallel=None, rows=None):
+        """``parallel``: None chooses by particle count, True/False force a path (where the scheme has it);
+        ``rows``: the FrameRows that ``advance_recorded`` writes (made here if None)."""
         self.model, self.state, self.params, self.scheme = model, state, params, scheme
+        self.rows = FrameRows(model.num_bodies) if rows is None else rows
         self.blocks = ParticleBlocks(model)
         self.parallel = parallel
         self.largest_body = int(model.body_count.to_numpy().max())  # particles
@@ -140,16 +144,11 @@ class Integrator:
                 init_body(b, x0, q0, v0, w0)
             write_particles_serial()
 
-        @ti.kernel
-        def contact_energy() -> float:
-            # Elastic energy ½ k depth² stored in the contact springs, serial (fixed order).
-            total = 0.0
-            ti.loop_config(serialize=True)
-            for i in range(model.num_particles):
-                b = model.particle_body[i]
-                _f, e = particle_force(b, s.particle_x[i], s.particle_v[i])
-                total += e
-            return total
+        @ti.func
+        def particle_energy(i):
+            # Elastic energy ½ k depth² stored in particle i's contact springs.
+            _f, e = particle_force(model.particle_body[i], s.particle_x[i], s.particle_v[i])
+            return e
 
         @ti.kernel
         def apply_impulse(i: ti.i32, J: ti.types.vector(3, float)):
@@ -162,7 +161,9 @@ class Integrator:
         self._parallel_parts = (_block_wrench, update, write_particles_parallel)
         self.init_state = init_state
         self.apply_impulse = apply_impulse
-        self.contact_energy = contact_energy
+        gpu = ti.lang.impl.current_cfg().arch not in (ti.x64, ti.arm64)
+        self.record = make_record_kernel(self.rows, s, model.num_particles, particle_energy, parallel_energy=gpu)
+        self._chunks = ChunkGraphs(advance_serial, self.record)
 
     @property
     def uses_parallel(self) -> bool:
@@ -172,6 +173,16 @@ class Integrator:
         if self.parallel is not None:
             return bool(self.parallel)
         return self.largest_body >= self.threshold
+
+    def advance_recorded(self, substeps: int, frames: int):
+        """``frames`` frames (at most ``self.rows.capacity``), each followed by its row, from row 0."""
+        self.rows.rewind()
+        if self.uses_parallel:
+            for _ in range(frames):  # a frame on this path takes milliseconds
+                self.advance(substeps)
+                self.record()
+        else:
+            self._chunks.run(substeps, frames)
 
     def advance(self, substeps: int):
         """Advance every body by ``substeps`` substeps: one launch (serial) or one graph (parallel)."""

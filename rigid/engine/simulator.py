@@ -2,6 +2,7 @@
 
     sim = Simulator(config, units)      # after ti.init (see rigid.runtime.init_taichi)
     sim.step_frame()                    # 1/60 s: config.substeps substeps, one launch
+    block = sim.advance_frames(100)     # 100 frames in one launch, a row per frame (frame_rows.py)
     snap = sim.snapshot()               # host copy of the body state (float64 numpy)
 
 One body (no ``[[body]]`` tables, or one without copies) runs the classic path
@@ -14,6 +15,7 @@ import numpy as np
 
 from ..bodies.mesh import BodyGeometry, body_geometry
 from ..bodies.placement import BodySpec, check_inside_box, scene_bodies
+from .frame_rows import FrameRows, split_rows
 from .integrate import Integrator
 from .model import BodyParts, Model
 from .state import Params, State
@@ -42,12 +44,15 @@ class Simulator:
         self.model = Model(parts, units)
         self.state = State(self.model.num_bodies, self.model.num_particles, self.model.num_surface)
         self.params = Params(config)
+        self.rows = FrameRows(self.model.num_bodies)
         if self.many:
             from .world import WorldIntegrator
 
-            self.integrator = WorldIntegrator(self.model, self.state, self.params, units, config.integrator)
+            self.integrator = WorldIntegrator(self.model, self.state, self.params, units, config.integrator,
+                                              rows=self.rows)
         else:
-            self.integrator = Integrator(self.model, self.state, self.params, units, config.integrator)
+            self.integrator = Integrator(self.model, self.state, self.params, units, config.integrator,
+                                         rows=self.rows)
         self.reset()
         self.snapshot()  # compile the read-back kernels now, not in the middle of a run
 
@@ -83,11 +88,28 @@ class Simulator:
         return self
 
     def step_frame(self, substeps: int | None = None):
-        dt = float(self.params.dt[None])  # one read per frame: each costs ~5 µs
+        """One frame (1/60 s, or ``substeps`` substeps); nothing is read back."""
+        dt = float(self.params.dt[None])  # one read per launch: each costs ~5 µs
         n = max(1, int((1.0 / 60.0) // dt)) if substeps is None else substeps
         self.integrator.advance(n)
         self.time += n * dt
         self.frame += 1
+
+    def advance_frames(self, frames: int) -> dict:
+        """``frames`` frames in one launch (at most ``self.rows.capacity``), and the row of each:
+        a block, the snapshot's keys with a leading frame axis (``t`` (frames,), ``x`` (frames, 3)
+        for one body or (frames, B, 3) for many, ...)."""
+        if not 1 <= frames <= self.rows.capacity:
+            raise ValueError(f"frames = {frames}: one launch runs 1 to {self.rows.capacity} frames")
+        dt = float(self.params.dt[None])
+        n = max(1, int((1.0 / 60.0) // dt))
+        self.integrator.advance_recorded(n, frames)
+        times = []
+        for _ in range(frames):  # the same sums as frame by frame: t is bit-identical
+            self.time += n * dt
+            times.append(self.time)
+        self.frame += frames
+        return self._block(times)
 
     def apply_impulse(self, particle: int, impulse):
         """Hit particle ``particle`` with impulse J (N s, world frame): ΔP = J, ΔL = r × J."""
@@ -98,15 +120,35 @@ class Simulator:
     def snapshot(self) -> dict:
         """The state and energies as float64 numpy: one row of the NPZ export. One body: its
         vectors (3,) and (4,); many: (B, 3) and (B, 4). Energies are totals."""
-        s, m = self.state, self.model
-        x, v, P, L, omega, q = (f.to_numpy().astype(np.float64) for f in (s.x, s.v, s.P, s.L, s.omega, s.q))
+        row = {key: value[0] for key, value in self.current_block().items()}
+        row["t"] = float(row["t"])
+        return row
+
+    def current_block(self) -> dict:
+        """The current state as a block of one frame (see ``advance_frames``)."""
+        self.rows.rewind()
+        self.integrator.record()
+        return self._block([self.time])
+
+    def _block(self, times: list) -> dict:
+        """The rows of the last launch, with the energies (float64, computed here, the same way for
+        every block: kinetic ½ P·v + ½ L·ω, potential −M g·x + the contact springs')."""
+        body, contact = self.rows.read(len(times))
+        rows = split_rows(body)
         g = np.asarray(self.params.gravity[None].to_numpy(), dtype=np.float64)
-        if not self.many:
-            x, v, P, L, omega, q = x[0], v[0], P[0], L[0], omega[0], q[0]
-            kinetic = 0.5 * P.dot(v) + 0.5 * L.dot(omega)
-            potential = -m.mass * g.dot(x) + float(self.integrator.contact_energy())
+        P, v, L, omega, x = rows["P"], rows["v"], rows["L"], rows["omega"], rows["x"]
+        if self.many:
+            k = len(times)
+            kinetic = 0.5 * (P * v).reshape(k, -1).sum(axis=1) + 0.5 * (L * omega).reshape(k, -1).sum(axis=1)
+            potential = -((x @ g) @ self.model.body_mass_np) + contact
         else:
-            kinetic = 0.5 * float((P * v).sum()) + 0.5 * float((L * omega).sum())
-            potential = -float(m.body_mass_np.dot(x @ g)) + float(self.integrator.contact_energy())
-        return dict(t=self.time, x=x, q=q, v=v, omega=omega, P=P, L=L,
-                    kinetic_energy=kinetic, potential_energy=potential)
+            rows = {key: value[:, 0] for key, value in rows.items()}
+            P, v, L, omega, x = rows["P"], rows["v"], rows["L"], rows["omega"], rows["x"]
+            kinetic = 0.5 * _dot3(P, v) + 0.5 * _dot3(L, omega)
+            potential = -self.model.mass * _dot3(x, g) + contact
+        return dict(t=np.asarray(times, np.float64), **rows, kinetic_energy=kinetic, potential_energy=potential)
+
+
+def _dot3(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Row-wise a·b of (k, 3) arrays, summed left to right."""
+    return a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1] + a[..., 2] * b[..., 2]

@@ -20,11 +20,14 @@ Two ways to run a frame of n substeps, the same stages either way:
 - "parallel": each stage a top-level (parallel) loop of one substep kernel,
   dispatched n times by a compute graph (one call from Python per frame), for
   large scenes and GPUs. ``SERIAL_MAX_PARTICLES`` chooses (measured: bench).
+``advance_recorded`` runs frames with a row after each (frame_rows.py): serial,
+a chunk of frames is one graph launch; parallel, a graph and a row kernel per frame.
 """
 import os
 
 import taichi as ti
 
+from .frame_rows import ChunkGraphs, FrameRows, make_record_kernel
 from .grid import NeighbourGrid
 from .matvec import matvec
 from .pair_contact import pair_force, sphere_wall_force
@@ -42,8 +45,10 @@ def world_uses_serial(num_particles: int) -> bool:
 
 
 class WorldIntegrator:
-    def __init__(self, model, state, params, units, scheme: str = "euler", serial=None):
+    def __init__(self, model, state, params, units, scheme: str = "euler", serial=None, rows=None):
+        """``rows``: the FrameRows that ``advance_recorded`` writes (frame_rows.py; made here if None)."""
         self.model, self.state, self.params, self.scheme = model, state, params, scheme
+        self.rows = FrameRows(model.num_bodies) if rows is None else rows
         n = model.num_particles
         self.grid = NeighbourGrid(n, 2.0 * max(float(model.radius_np.max()), 1e-6))
         self.particle_f = ti.Vector.field(3, float, shape=n)
@@ -185,15 +190,11 @@ class WorldIntegrator:
             for k in range(V):
                 place_surface(k)
 
-        @ti.kernel
-        def energy_now() -> float:
-            # Contact energy at the current state (the particles were placed at the frame's end).
-            total = 0.0
-            ti.loop_config(serialize=True)
-            for i in range(N):
-                _f, _c, e = particle_force(i)
-                total += e
-            return total
+        @ti.func
+        def particle_energy(i):
+            # Contact energy of particle i (the particles were placed at the frame's end).
+            _f, _c, e = particle_force(i)
+            return e
 
         @ti.kernel
         def init_bodies(x0: ti.types.ndarray(), q0: ti.types.ndarray(), v0: ti.types.ndarray(),
@@ -212,7 +213,10 @@ class WorldIntegrator:
 
         self.frame_serial, self.place_parallel = frame_serial, place_parallel
         self.forces_and_bodies, self.finish_parallel = forces_and_bodies, finish_parallel
-        self._energy_now, self._init_bodies, self._kick = energy_now, init_bodies, kick
+        self._init_bodies, self._kick = init_bodies, kick
+        gpu = ti.lang.impl.current_cfg().arch not in (ti.x64, ti.arm64)
+        self.record = make_record_kernel(self.rows, s, N, particle_energy, parallel_energy=gpu)
+        self._chunks = ChunkGraphs(frame_serial, self.record)
 
     def init_state(self, x0, q0, v0, w0):
         """Initial state of every body from (B, 3/4) float64 arrays, then the particles and meshes."""
@@ -223,8 +227,15 @@ class WorldIntegrator:
         self._kick(particle, impulse)
         self.advance(0)
 
-    def contact_energy(self) -> float:
-        return self._energy_now()
+    def advance_recorded(self, substeps: int, frames: int):
+        """``frames`` frames (at most ``self.rows.capacity``), each followed by its row, from row 0."""
+        self.rows.rewind()
+        if self.serial:
+            self._chunks.run(substeps, frames)
+            return
+        for _ in range(frames):  # a frame on this path takes milliseconds
+            self.advance(substeps)
+            self.record()
 
     def advance(self, substeps: int):
         """n substeps of every body, then the particles and drawn vertices: one launch or one graph."""

@@ -1,4 +1,4 @@
-"""Trajectory rows, the NPZ export, and blow-up detection.
+"""Trajectory rows, the NPZ export, and blow-up detection (a block of frames at a time).
 
 Export contract (one row per rendered frame, row 0 the initial state):
 ``t`` (F,), ``x`` (F,3), ``q`` (F,4 scalar first), ``v`` (F,3), ``omega`` (F,3 world),
@@ -19,20 +19,26 @@ ROW_KEYS = ("t", "x", "q", "v", "omega", "P", "L", "kinetic_energy", "potential_
 
 
 class Trajectory:
-    """Rows of snapshots, kept in memory until saved (a few hundred bytes per frame)."""
+    """Blocks of rows (``Simulator.advance_frames``), kept in memory until saved (~100 bytes per
+    frame and body)."""
 
     def __init__(self, mass: float, inertia_body, dt: float, substeps: int, fp64: bool):
-        self.rows: list[dict] = []
+        self.blocks: list[dict] = []
+        self.num_rows = 0
         self.dtype = np.float64 if fp64 else np.float32
         self.constants = dict(mass=np.asarray(mass, self.dtype),
                               inertia_body=np.asarray(inertia_body, self.dtype),
                               dt=np.asarray(dt, self.dtype), substeps=np.asarray(substeps, np.int64))
 
-    def append(self, row: dict) -> None:
-        self.rows.append(row)
+    def append_block(self, block: dict, rows: int | None = None) -> None:
+        """Keep the block's first ``rows`` rows (all if None)."""
+        rows = len(block["t"]) if rows is None else rows
+        if rows:
+            self.blocks.append({key: np.asarray(block[key])[:rows] for key in ROW_KEYS})
+            self.num_rows += rows
 
     def arrays(self) -> dict:
-        out = {key: np.asarray([row[key] for row in self.rows], dtype=self.dtype) for key in ROW_KEYS}
+        out = {key: np.concatenate([block[key] for block in self.blocks]).astype(self.dtype) for key in ROW_KEYS}
         out.update(self.constants)
         return out
 
@@ -50,6 +56,23 @@ def write_npz(path, arrays: dict) -> None:
             info = zipfile.ZipInfo(f"{key}.npy", date_time=(1980, 1, 1, 0, 0, 0))
             with archive.open(info, "w", force_zip64=True) as member:
                 np.lib.format.write_array(member, np.asanyarray(value), allow_pickle=False)
+
+
+def first_blow_up(block: dict, initial_energy: float, energy_bound: float) -> tuple[int, str] | None:
+    """The first row of a block that blew up, and what blew up in it; None if all look sane.
+    Checked on the host, for a whole block at once: the kernels run with fast math, under
+    which a NaN test on the device may be compiled away."""
+    frames = len(block["t"])
+    bad = np.zeros(frames, bool)
+    for key in ("x", "q", "P", "L"):
+        bad |= ~np.isfinite(np.asarray(block[key]).reshape(frames, -1)).all(axis=1)
+    energy = block["kinetic_energy"] + block["potential_energy"]
+    with np.errstate(invalid="ignore"):  # inf - inf in a row already marked
+        bad |= ~np.isfinite(energy) | (energy - initial_energy > energy_bound)
+    if not bad.any():
+        return None
+    first = int(np.argmax(bad))
+    return first, blow_up({key: block[key][first] for key in block}, initial_energy, energy_bound)
 
 
 def blow_up(row: dict, initial_energy: float, energy_bound: float) -> str | None:

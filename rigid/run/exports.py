@@ -55,7 +55,7 @@ def write_exports(value, trajectory, sim) -> None:
         kind = FORMATS.get(path.suffix.lower(), "trajectory")
         if kind == "trajectory":
             trajectory.save(path)
-            print(f"wrote {path} ({len(trajectory.rows)} rows)", file=sys.stderr)
+            print(f"wrote {path} ({trajectory.num_rows} rows)", file=sys.stderr)
             continue
         if motion is None:
             from .export_motion import motion_from

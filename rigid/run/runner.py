@@ -1,17 +1,19 @@
 """The frame loop shared by headless runs and recordings.
 
-``run_frames`` steps the simulator frame by frame, keeps the trajectory for the
-export, stops at the first frame that blows up, and turns Ctrl-C into a clean
-stop: whatever happens, the frames simulated so far are saved.
+``run_frames`` steps the simulator (in chunks of frames when nothing is drawn),
+keeps the trajectory for the export, stops at the first frame that blows up, and
+turns Ctrl-C into a clean stop: whatever happens, the frames simulated so far are saved.
 """
 from __future__ import annotations
 
-import itertools
+import contextlib
+import signal
+import threading
+import time
 from dataclasses import dataclass
 
-from .diagnostics import Trajectory, blow_up, stability_hint
+from .diagnostics import Trajectory, first_blow_up, stability_hint
 from .exports import write_exports
-
 
 
 def energy_bound(mass: float, gravity, kinetic0: float) -> float:
@@ -36,55 +38,121 @@ class RunResult:
     frames: int  # frames simulated after the initial state
     status: str  # "done", "interrupted" or "blew-up"
     message: str = ""
+    last_row: dict | None = None  # the last good frame's row (what a summary reports)
 
     @property
     def exit_code(self) -> int:
         return {"done": 0, "interrupted": 130, "blew-up": 3}[self.status]
 
 
-def run_frames(sim, frames: int | None, export_path=None, on_frame=None, check_every: int = 1) -> RunResult:
+def run_frames(sim, frames: int | None, export_path=None, on_frame=None) -> RunResult:
     """Simulate ``frames`` frames (None: until ``on_frame`` raises StopRun); ``on_frame(sim, i)``
     runs after each (e.g. draw and encode). If it returns True, the state was changed by hand
-    (a reset, a kick, a new gravity) and the blow-up check measures energy from there on."""
+    (a reset, a kick, a new gravity) and the blow-up check measures energy from there on.
+
+    Without ``on_frame`` the frames run in chunks, one launch each (``Simulator.advance_frames``):
+    the host reads a chunk's rows at once and checks them for a blow-up, so a frame costs the
+    host nothing. A chunk is sized to take ~CHUNK_SECONDS, so Ctrl-C (honoured between chunks,
+    with every frame simulated so far kept) is never kept waiting. Chunking never changes the
+    numbers: a chunk runs the same substeps, in the same order, as frame-by-frame calls."""
     cfg = sim.config
     m = sim.model  # many bodies: mass (B,), inertia_body (B, 3, 3); one body: (), (3, 3)
     mass, inertia = (m.body_mass_np, m.inertia_all_np) if sim.many else (m.mass, m.inertia_body_np)
     trajectory = Trajectory(mass, inertia, cfg.dt, sim.substeps, cfg.fp64)
-    row = sim.snapshot()
-    trajectory.append(row)
-    e0 = row["kinetic_energy"] + row["potential_energy"]
-    bound = energy_bound(sim.model.mass, cfg.gravity, row["kinetic_energy"])
+    start = sim.current_block()
+    trajectory.append_block(start)
+    e0, bound = _baseline(sim, start)
     result = RunResult(0, "done")
+    last = _row(start, 0)
+    chunk = _ChunkSize(sim.rows.capacity if on_frame is None else 1)
     try:
-        if on_frame is not None and on_frame(sim, 0):
-            e0, bound = _energy_baseline(sim)
-        for i in (itertools.count(1) if frames is None else range(1, frames + 1)):
-            sim.step_frame()
-            if export_path is not None or i % check_every == 0 or i == frames:
-                row = sim.snapshot()
-                problem = blow_up(row, e0, bound)
-                if problem:
-                    result = RunResult(i - 1, "blew-up",
-                                       f"blow-up at t = {sim.time:.4g} s (frame {i}): {problem}; "
+        with _sigint_between_chunks(on_frame is None) as interrupted:
+            if on_frame is not None and on_frame(sim, 0):
+                e0, bound = _baseline(sim, sim.current_block())
+            while frames is None or result.frames < frames:
+                if interrupted():
+                    raise KeyboardInterrupt
+                size = chunk.next(None if frames is None else frames - result.frames)
+                began = time.perf_counter()
+                block = sim.advance_frames(size)
+                chunk.took(time.perf_counter() - began)
+                bad = first_blow_up(block, e0, bound)
+                if bad is not None:
+                    index, problem = bad
+                    if export_path:
+                        trajectory.append_block(block, index)
+                    first = result.frames + index + 1
+                    last = _row(block, index - 1) if index else last
+                    result = RunResult(first - 1, "blew-up",
+                                       f"blow-up at t = {block['t'][index]:.4g} s (frame {first}): {problem}; "
                                        f"{stability_hint(cfg)}")
                     break
                 if export_path:  # rows are kept only for an export: a window left open stays in constant memory
-                    trajectory.append(row)
-            result.frames = i
-            if on_frame is not None and on_frame(sim, i):
-                e0, bound = _energy_baseline(sim)
+                    trajectory.append_block(block)
+                result.frames += size
+                last = _row(block, size - 1)
+                if on_frame is not None and on_frame(sim, result.frames):
+                    e0, bound = _baseline(sim, sim.current_block())
     except StopRun:
         pass
     except KeyboardInterrupt:
         result = RunResult(result.frames, "interrupted", f"interrupted after {result.frames} frames")
     if export_path:  # one path or a list (--export given several times); the suffix picks the format
         write_exports(export_path, trajectory, sim)
+    result.last_row = last
     return result
 
 
-def _energy_baseline(sim) -> tuple[float, float]:
-    """Initial energy and blow-up bound measured from the simulator's current state."""
-    row = sim.snapshot()
+def _row(block: dict, index: int) -> dict:
+    """Row ``index`` of a block, as ``Simulator.snapshot`` gives it."""
+    row = {key: value[index] for key, value in block.items()}
+    row["t"] = float(row["t"])
+    return row
+
+
+CHUNK_SECONDS = 0.05
+
+
+class _ChunkSize:
+    """Frames per launch: doubles from 1 while a launch takes under CHUNK_SECONDS, halves above
+    it, never over the row buffer's capacity (so long, heavy frames run one per launch)."""
+
+    def __init__(self, capacity: int):
+        self.capacity, self.size = capacity, 1
+
+    def next(self, remaining: int | None) -> int:
+        return self.size if remaining is None else min(self.size, remaining)
+
+    def took(self, seconds: float) -> None:
+        if seconds < CHUNK_SECONDS / 2:
+            self.size = min(self.capacity, self.size * 2)
+        elif seconds > 2 * CHUNK_SECONDS:
+            self.size = max(1, self.size // 2)
+
+
+@contextlib.contextmanager
+def _sigint_between_chunks(active: bool):
+    """While a headless run is chunked, the first Ctrl-C is noted and acted on between chunks
+    (a KeyboardInterrupt raised inside a launch would lose the chunk's rows); a second one
+    interrupts at once. Yields ``interrupted()``."""
+    if not active or threading.current_thread() is not threading.main_thread():
+        yield lambda: False
+        return
+    seen = []
+
+    def note(signum, frame):
+        seen.append(signum)
+        signal.signal(signal.SIGINT, previous)  # the next Ctrl-C is a plain KeyboardInterrupt
+
+    previous = signal.signal(signal.SIGINT, note)
+    try:
+        yield lambda: bool(seen)
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+def _baseline(sim, block: dict) -> tuple[float, float]:
+    """Initial energy and blow-up bound, measured from a block of one row (the current state)."""
+    kinetic = float(block["kinetic_energy"][0])
     gravity = sim.params.gravity[None].to_numpy()
-    return (row["kinetic_energy"] + row["potential_energy"],
-            energy_bound(sim.model.mass, gravity, row["kinetic_energy"]))
+    return kinetic + float(block["potential_energy"][0]), energy_bound(sim.model.mass, gravity, kinetic)

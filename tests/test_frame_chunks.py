@@ -1,0 +1,136 @@
+"""Frames in chunks (rigid.engine.frame_rows, rigid.run.runner): one launch for many frames, the
+rows read back at once, and numbers bit-identical to a frame-by-frame run.
+
+References here come from outside the rows: the state fields read after each ``step_frame``,
+energies recomputed in numpy (½ P·v + ½ L·ω; −M g·x + Σ ½ k depth² over the box's planes),
+and a blow-up found by a frame-by-frame loop with its own checks.
+"""
+import numpy as np
+import pytest
+
+from rigid.run.runner import energy_bound, run_frames
+
+THROWN = dict(position=(0.0, 0.2, 0.0), initial_velocity=(6.0, -3.0, 2.0), initial_angular_velocity=(3.0, -2.0, 5.0))
+KEYS = ("x", "q", "v", "omega", "P", "L")
+
+
+def fields_after_each_frame(sim, frames: int) -> dict:
+    """The state fields (float64 copies of the float32 values) and particle positions after
+    each of ``frames`` frame-by-frame calls."""
+    s, out = sim.state, {key: [] for key in KEYS + ("particles",)}
+    for _ in range(frames):
+        sim.step_frame()
+        for key in KEYS:
+            out[key].append(getattr(s, key).to_numpy().astype(np.float64))
+        out["particles"].append(s.particle_x.to_numpy().astype(np.float64))
+    return {key: np.asarray(value) for key, value in out.items()}
+
+
+def box_spring_energy(p: np.ndarray, k: float, floor: float, wall: float) -> float:
+    """Σ ½ k depth² over particles behind the floor y = floor and the walls x, z = ±wall."""
+    depths = np.concatenate([floor - p[:, 1], p[:, 0] - wall, -wall - p[:, 0], p[:, 2] - wall, -wall - p[:, 2]])
+    depths = depths[depths > 0]
+    return float(0.5 * k * (depths ** 2).sum())
+
+
+def chunked(sim, sizes) -> dict:
+    blocks = [sim.advance_frames(size) for size in sizes]
+    return {key: np.concatenate([block[key] for block in blocks]) for key in blocks[0]}
+
+
+def test_chunked_rows_are_the_frame_by_frame_state_and_energies(sim_cache):
+    sim = sim_cache(**THROWN)
+    reference = fields_after_each_frame(sim, 40)
+    sim.reset()
+    rows = chunked(sim, (1, 3, 7, 13, 16))  # 40 frames; 7 and 13 run as several graphs
+    for key in KEYS:
+        assert np.array_equal(rows[key], reference[key][:, 0]), key  # bit for bit
+    dt, n = float(sim.params.dt[None]), sim.substeps  # the float32 Δt the kernels use
+    assert np.allclose(rows["t"], dt * n * np.arange(1, 41), rtol=1e-12, atol=0)
+    P, v, L, w, x = (reference[key][:, 0] for key in ("P", "v", "L", "omega", "x"))
+    kinetic = 0.5 * np.einsum("ij,ij->i", P, v) + 0.5 * np.einsum("ij,ij->i", L, w)
+    assert np.allclose(rows["kinetic_energy"], kinetic, rtol=1e-12, atol=0)
+    cfg = sim.config
+    springs = np.array([box_spring_energy(p, cfg.collision_stiffness, cfg.floor, cfg.wall)
+                        for p in reference["particles"]])
+    assert (springs > 1e-3).sum() >= 3, "the body should touch the box in a few rows"
+    gravity = -sim.model.mass * x @ np.asarray(cfg.gravity, np.float64)
+    assert np.allclose(rows["potential_energy"] - gravity, springs, rtol=1e-4, atol=1e-5)
+
+
+def test_many_body_chunks_equal_frame_by_frame(sim_cache):
+    sim = sim_cache(count=3, scale=0.25, initial_velocity=(4.0, -2.0, 1.0), initial_angular_velocity=(2.0, 1.0, 0.0))
+    assert sim.many and sim.model.num_bodies == 3
+    reference = fields_after_each_frame(sim, 24)
+    sim.reset()
+    rows = chunked(sim, (5, 19))
+    for key in KEYS:
+        assert rows[key].shape == (24, 3, reference[key].shape[-1])
+        assert np.array_equal(rows[key], reference[key]), key
+    P, v, L, w = (reference[key] for key in ("P", "v", "L", "omega"))
+    kinetic = 0.5 * (P * v).sum(axis=(1, 2)) + 0.5 * (L * w).sum(axis=(1, 2))
+    assert np.allclose(rows["kinetic_energy"], kinetic, rtol=1e-12, atol=0)
+    sim.reset()
+    for _ in range(24):
+        sim.step_frame()
+    snapshots_energy = sim.snapshot()["potential_energy"]
+    assert rows["potential_energy"][-1] == snapshots_energy
+
+
+def test_a_chunk_is_refused_beyond_the_row_buffer(sim_cache):
+    sim = sim_cache()
+    with pytest.raises(ValueError, match="one launch runs 1 to"):
+        sim.advance_frames(sim.rows.capacity + 1)
+
+
+def first_bad_frame(sim, frames: int) -> int:
+    """Frame-by-frame: the first frame whose state is non-finite or whose energy rose past the bound."""
+    def energy(s):
+        return s["kinetic_energy"] + s["potential_energy"]
+
+    start = sim.snapshot()
+    e0 = energy(start)
+    bound = energy_bound(sim.model.mass, sim.config.gravity, start["kinetic_energy"])
+    for i in range(1, frames + 1):
+        sim.step_frame()
+        s = sim.snapshot()
+        finite = all(np.isfinite(s[key]).all() for key in ("x", "q", "P", "L")) and np.isfinite(energy(s))
+        if not finite or energy(s) - e0 > bound:
+            return i
+    raise AssertionError("no blow-up: the test needs one")
+
+
+def test_a_blow_up_inside_a_chunk_keeps_exactly_the_good_frames(sim_cache, tmp_path):
+    stiff = dict(collision_stiffness=3e6)  # explicit Euler's bound is dt < c/k = 3.3e-4 s here
+    sim = sim_cache(**stiff)
+    bad = first_bad_frame(sim, 300)
+    assert bad > 8, "the blow-up should fall inside a chunk, not in the first frames"
+    sim = sim_cache(**stiff)
+    calls = []
+    original = sim.advance_frames
+    sim.advance_frames = lambda frames: calls.append(frames) or original(frames)
+    try:
+        out = tmp_path / "t.npz"
+        result = run_frames(sim, 300, export_path=out)
+    finally:
+        del sim.advance_frames
+    assert result.status == "blew-up" and result.frames == bad - 1, (result, bad)
+    assert f"(frame {bad})" in result.message
+    assert max(calls) > 1, "the run should have been chunked"
+    d = np.load(out)
+    assert len(d["t"]) == bad  # row 0 and the bad - 1 good frames
+    assert np.isfinite(d["x"]).all() and np.isfinite(d["kinetic_energy"]).all()
+    assert result.last_row["t"] == pytest.approx(float(d["t"][-1]), rel=1e-6)
+
+
+def test_a_long_headless_run_takes_few_launches(sim_cache):
+    sim = sim_cache(**THROWN)
+    calls = []
+    original = sim.advance_frames
+    sim.advance_frames = lambda frames: calls.append(frames) or original(frames)
+    try:
+        result = run_frames(sim, 600)
+    finally:
+        del sim.advance_frames
+    assert result.status == "done" and result.frames == 600 and sum(calls) == 600
+    assert calls[0] == 1 and len(calls) < 40, calls  # frame by frame would be 600 launches
