@@ -12,8 +12,9 @@ and MuJoCo (scripts/bench_mujoco.py) if installed. Bodies: the 42-vertex sphere
 rigid.bodies.sampling (--particles volume --grid 100: 1,000,000 particles), timed in
 flight and resting on the floor. Δt = 1e-3, 16 substeps per frame, CPU, float32.
 Times: median over repeats of (wall time of whole frames) / substeps. Also:
-start-up from command to first frame (python rigid_body_dynamic.py --headless
---frames 1) with an empty and a warm kernel cache, peak memory of a process
+the command line's own figure, whole processes, long minus short runs, with and
+without --export (rigid.bench.command_line); start-up from command to first frame
+(python rigid_body_dynamic.py --headless --frames 1) with an empty and a warm kernel cache, peak memory of a process
 running the 1M body, and serial vs parallel path by particle count (the
 crossover behind rigid.engine.integrate.parallel_threshold).
 Writes report/bench.json and report/bench.md (--out DIR to change). Speeds are
@@ -245,6 +246,9 @@ def main(argv=None) -> int:
     result["rows"] = [run_case(case, units, ti) for case in body_cases(args.quick)]
     result["crossover"] = crossover(units, ti, args.quick)
     if not args.quick:
+        from rigid.bench import command_line
+
+        result["command_line"] = command_line.measure(result["rows"])
         result["startup"] = startup()
         result["memory"] = peak_memory(100)
     result["table"] = bench_table.table(result["rows"])

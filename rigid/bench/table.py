@@ -54,14 +54,35 @@ def table(rows: list[dict]) -> dict:
     return dict(header=HEADER, rows=[cells(r) for r in rows])
 
 
+# The command line's goals: (label, body prefix, quantity, bound, sense); quantities from command_line rows.
+CLI_GOALS = [("sphere: command line <= 1.5x the engine per substep", "sphere", "cli_ratio", 1.5, "le"),
+             ("sphere: command line with --export <= 1.5x the engine", "sphere", "export_ratio", 1.5, "le"),
+             ("torus: command line <= 1.5x the engine per substep", "torus", "cli_ratio", 1.5, "le"),
+             ("torus: command line with --export <= 1.5x the engine", "torus", "export_ratio", 1.5, "le"),
+             ("sphere: command line >= 50x the handout loop", "sphere", "cli_speedup", 50.0, "ge"),
+             ("sphere: command line <= 1.0x MuJoCo per step", "sphere", "cli_mujoco", 1.0, "le")]
+
+
+def cli_derived(result: dict, c: dict) -> dict:
+    row = next((r for r in result["rows"] if r["body"] == c["body"]), {})
+    handout, mujoco = row.get("baseline_us"), row.get("mujoco_us")
+    return dict(cli_ratio=c["cli_us"] / c["engine_us"], export_ratio=c["cli_export_us"] / c["engine_us"],
+                cli_speedup=handout / c["cli_us"] if handout else None,
+                cli_mujoco=c["cli_us"] / mujoco if mujoco else None)
+
+
 def goals(result: dict) -> list[dict]:
-    out = []
+    """Each goal's value and whether it is met (None: not measured)."""
+    found = []
     for label, body, key, bound, sense in GOALS:
         row = next((r for r in result["rows"] if r["body"].startswith(body)), None)
-        value = None if row is None else (row[key] if key in row else derived(row)[key])
-        met = None if value is None else (value >= bound if sense == "ge" else value <= bound)
-        out.append(dict(goal=label, value=value, met=met))
-    return out
+        found.append((label, bound, sense, None if row is None else (row[key] if key in row else derived(row)[key])))
+    for label, body, key, bound, sense in CLI_GOALS if result.get("command_line") else ():
+        c = next((c for c in result["command_line"] if c["body"].startswith(body)), None)
+        found.append((label, bound, sense, None if c is None else cli_derived(result, c)[key]))
+    return [dict(goal=label, value=value,
+                 met=None if value is None else (value >= bound if sense == "ge" else value <= bound))
+            for label, bound, sense, value in found]
 
 
 def markdown(result: dict) -> str:
@@ -81,6 +102,8 @@ def markdown(result: dict) -> str:
              "The machine is shared (other jobs ran during the measurement; load averages "
              f"{sorted({r.get('load_average') for r in result['rows']} - {None})} at the rows' ends), "
              "so timings vary by up to 2x between runs; the launch-bound handout loop varies most."]
+    if result.get("command_line"):
+        notes.append(command_line_markdown(result))
     if result.get("startup"):
         st = result["startup"]
         notes.append(f"Start-up, `python rigid_body_dynamic.py --headless --frames 1` (command to first frame "
@@ -100,6 +123,29 @@ def markdown(result: dict) -> str:
                   for g in result["goals"]]
     return "\n".join(lines) + "\n\n" + "\n\n".join(notes) + "\n\nGoals (reported, not asserted):\n\n" + \
         "\n".join(goal_lines) + "\n"
+
+
+CLI_HEADER = ["body", "engine µs", "command line µs", "with --export µs", "command line / engine",
+              "with export / engine", "vs handout loop", "command line / MuJoCo"]
+
+
+def command_line_markdown(result: dict) -> str:
+    """The command line's figures beside the engine's, per substep (rigid.bench.command_line)."""
+    lines = ["| " + " | ".join(CLI_HEADER) + " |", "|" + "---|" * len(CLI_HEADER)]
+    for c in result["command_line"]:
+        row = next((r for r in result["rows"] if r["body"] == c["body"]), {})
+        handout, mujoco = row.get("baseline_us"), row.get("mujoco_us")
+        lines.append("| " + " | ".join([
+            c["body"], f"{c['engine_us']:.2f}", f"{c['cli_us']:.2f}", f"{c['cli_export_us']:.2f}",
+            f"{c['cli_us'] / c['engine_us']:.2f}", f"{c['cli_export_us'] / c['engine_us']:.2f}",
+            _fmt(handout / c["cli_us"] if handout else None, ".0f") + ("x" if handout else ""),
+            _fmt(c["cli_us"] / mujoco if mujoco else None, ".2f")]) + " |")
+    first = result["command_line"][0]
+    return ("The command line, as a user runs it: whole `python rigid_body_dynamic.py --headless --frames N` "
+            "processes, (median wall of a long run − median wall of a short one) / (extra frames × 16 substeps), "
+            f"{first['frames_long'] - first['frames_short']:,} extra frames for the sphere "
+            "(rigid/bench/command_line.py); the engine column is the in-process figure above:\n\n" +
+            "\n".join(lines))
 
 
 def write(result: dict, json_path: Path, md_path: Path) -> None:
