@@ -77,6 +77,29 @@ def test_many_body_chunks_equal_frame_by_frame(sim_cache):
     assert rows["potential_energy"][-1] == snapshots_energy
 
 
+@pytest.mark.parametrize("many", [False, True])
+def test_the_gpu_rows_parallel_energy_sums_to_the_serial_one(sim_cache, many):
+    """GPUs compute each particle's contact energy in parallel, then sum in order; run that variant
+    here on the CPU and compare it with the serial loop's row."""
+    from rigid.engine.frame_rows import make_record_kernel
+
+    sim = (sim_cache(count=3, scale=0.25, initial_velocity=(4.0, -2.0, 1.0), initial_angular_velocity=(2.0, 1.0, 0.0))
+           if many else sim_cache(**THROWN))
+    for _ in range(30):
+        sim.step_frame()
+    sim.rows.rewind()
+    sim.integrator.record()
+    serial_rows, serial = sim.rows.read(1)
+    parallel = make_record_kernel(sim.rows, sim.state, sim.model.num_particles, sim.integrator.particle_energy,
+                                  parallel_energy=True)
+    sim.rows.rewind()
+    parallel()
+    rows, energy = sim.rows.read(1)
+    assert serial[0] > 1e-3, "no contact: the sums would compare zeros"
+    assert energy[0] == pytest.approx(serial[0], rel=1e-6)
+    assert np.array_equal(rows, serial_rows)
+
+
 def test_a_chunk_is_refused_beyond_the_row_buffer(sim_cache):
     sim = sim_cache()
     with pytest.raises(ValueError, match="one launch runs 1 to"):

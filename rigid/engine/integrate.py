@@ -163,6 +163,7 @@ class Integrator:
         self.apply_impulse = apply_impulse
         gpu = ti.lang.impl.current_cfg().arch not in (ti.x64, ti.arm64)
         self.record = make_record_kernel(self.rows, s, model.num_particles, particle_energy, parallel_energy=gpu)
+        self.particle_energy = particle_energy  # ti.func of a particle index (tests build the GPU variant)
         self._chunks = ChunkGraphs(advance_serial, self.record)
 
     @property

@@ -216,6 +216,7 @@ class WorldIntegrator:
         self._init_bodies, self._kick = init_bodies, kick
         gpu = ti.lang.impl.current_cfg().arch not in (ti.x64, ti.arm64)
         self.record = make_record_kernel(self.rows, s, N, particle_energy, parallel_energy=gpu)
+        self.particle_energy = particle_energy  # ti.func of a particle index (tests build the GPU variant)
         self._chunks = ChunkGraphs(frame_serial, self.record)
 
     def init_state(self, x0, q0, v0, w0):
