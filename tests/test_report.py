@@ -8,9 +8,9 @@ from conftest import ROOT
 
 def test_report_regenerates_identically_with_figures(tmp_path):
     outs = [tmp_path / "a", tmp_path / "b"]
-    for out in outs:  # reuse the committed validation and benchmark (slow scripts of their own)
-        out.mkdir()
-        for name in ("validation.json", "bench.json"):
+    for out in outs:  # reuse the committed validation and benchmarks (slow scripts of their own)
+        (out / "figures").mkdir(parents=True)
+        for name in ("validation.json", "bench.json", "bench_many.json", "figures/many_scaling.png"):
             shutil.copy(ROOT / "report" / name, out / name)
     runs = [subprocess.Popen([sys.executable, "scripts/make_report.py", "--quick", "--out", str(out)],
                              cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
@@ -24,7 +24,8 @@ def test_report_regenerates_identically_with_figures(tmp_path):
     assert md[0].startswith("Name:") and md[2].startswith("UID:")  # the handout's two first lines
     figures = sorted(p.name for p in (a / "figures").glob("*.png"))
     for name in ("energy_assignment.png", "energy_thrown_sphere.png", "energy_tumbling_t_handle.png",
-                 "trajectory_thrown_sphere.png", "flip.png", "convergence.png"):
+                 "trajectory_thrown_sphere.png", "flip.png", "convergence.png",
+                 "many_pile.png", "many_dominoes.png", "energy_pile.png", "many_scaling.png"):
         assert name in figures
         assert f"figures/{name}" in (a / "report.md").read_text()
     for name in figures:  # fixed seeds, deterministic simulation and drawing: same bytes

@@ -1,12 +1,14 @@
 """Regenerate report/: report.md and report.pdf with their figures.
 
-    python scripts/make_report.py            # ~1 minute: simulations, validation, figures, PDF
-    python scripts/make_report.py --quick    # shorter runs (the tests use it)
+    python scripts/make_report.py            # ~1-2 minutes: simulations, validation, figures, PDF
+    python scripts/make_report.py --quick    # shorter runs, smaller pictures (the tests use it)
 
 Simulations run here (CPU, float32, fixed seeds: the same figures every time).
 The validation table comes from scripts/validate.py and the benchmark table from
 scripts/bench.py: their JSON in report/ is used when present (the benchmark is slow
-and its timings are the machine's, not reproducible); --rerun runs both again.
+and its timings are the machine's, not reproducible); --rerun runs both again. The
+many-body benchmark (scripts/bench_many.py: bench_many.json, figures/many_scaling.png)
+is only read, never run here (minutes).
 """
 from __future__ import annotations
 
@@ -61,11 +63,14 @@ def main(argv=None) -> int:
     if validation and "convergence" in validation:
         figures.convergence(validation["convergence"], out / "figures" / "convergence.png")
     bench = load_or_run(out / "bench.json", ["scripts/bench.py", "--out", str(out)], args.rerun, run_if_missing=False)
-    stills = render_stills(out / "figures")
+    stills = render_stills(out / "figures", size=(320, 180) if args.quick else (640, 360))
+    many_runs = many_scenes(units, out / "figures", args.quick)
+    bench_many_json = out / "bench_many.json"  # scripts/bench_many.py writes it (minutes): read only
+    bench_many = json.loads(bench_many_json.read_text()) if bench_many_json.exists() else None
 
     doc = Doc()
     report_text.write(doc, out, configs=configs, runs=runs, flip=flip, validation=validation,
-                      bench=bench, stills=stills)
+                      bench=bench, stills=stills, many=many_runs, bench_many=bench_many)
     (out / "report.md").write_text(doc.markdown(out))
     doc.pdf(out / "report.pdf")
     print(f"wrote {out / 'report.md'} and {out / 'report.pdf'}")
@@ -99,15 +104,30 @@ def load_or_run(path: Path, command: list[str], rerun: bool, run_if_missing: boo
     return json.loads(path.read_text()) if path.exists() else None
 
 
-def render_stills(folder: Path, frames=(10, 60, 150)) -> list[Path]:
-    """Three frames of a recording of the thrown sphere (empty if recording is unavailable)."""
+def many_scenes(units, folder: Path, quick: bool) -> dict:
+    """The pile and the dominoes (rigid.report.many): stills, energies; the pile's energy figure."""
+    from rigid.report import many
+
+    size = (320, 180) if quick else (640, 360)
+    results = {name: many.simulate(run, units, size, folder / f"many_{name}.png")
+               for name, run in many.runs(quick).items()}
+    pile = results["pile"]
+    figures.many_energy(pile["t"], pile["kinetic_energy"], pile["potential_energy"],
+                        f"pile.toml: {pile['bodies']} bodies", folder / "energy_pile.png")
+    return results
+
+
+def render_stills(folder: Path, frames=(10, 60, 150), size=(640, 360)) -> list[Path]:
+    """Three frames of a recording of the thrown sphere, drawn by the project's renderer
+    (rigid/view/raster.py, offscreen: no display, no Vulkan); empty if recording fails."""
     import av
     import numpy as np
     from PIL import Image
 
     video = folder / "thrown_sphere.mp4"
     proc = subprocess.run([sys.executable, "rigid_body_dynamic.py", "--scene", "assets/scenes/thrown_sphere.toml",
-                           "--record", str(video), "--frames", str(max(frames) + 1), "--resolution", "640", "360"],
+                           "--record", str(video), "--frames", str(max(frames) + 1),
+                           "--resolution", str(size[0]), str(size[1])],
                           cwd=ROOT, capture_output=True, text=True)
     if proc.returncode != 0:
         print(f"note: no stills ({proc.stderr.strip().splitlines()[-1:]})", file=sys.stderr)

@@ -71,3 +71,16 @@ def convergence(results: dict, path) -> None:
     ax.set_title("convergence against scipy's solve_ivp", fontsize=9)
     ax.legend(fontsize=8), ax.grid(True, which="both", alpha=0.3)
     _save(fig, path)
+
+
+def many_energy(t, kinetic, potential, title: str, path) -> None:
+    """Total kinetic, potential and their sum over time (left); kinetic on a log scale (right)."""
+    fig, (a, b) = plt.subplots(1, 2, figsize=(9, 3.2))
+    a.plot(t, kinetic, label="kinetic")
+    a.plot(t, potential, label="potential (gravity + springs)")
+    a.plot(t, kinetic + potential, "k", lw=1.5, label="total")
+    a.set_xlabel("t (s)"), a.set_ylabel("energy (J)"), a.legend(fontsize=7), a.set_title(title, fontsize=9)
+    b.semilogy(t[1:], kinetic[1:], "C0")  # row 0: at rest, 0 J
+    b.set_xlabel("t (s)"), b.set_ylabel("kinetic energy (J)"), b.grid(True, which="both", alpha=0.3)
+    b.set_title("kinetic energy, log scale", fontsize=9)
+    _save(fig, path)

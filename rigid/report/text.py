@@ -6,12 +6,14 @@ from pathlib import Path
 
 import numpy as np
 
+from . import text_many
+
 PARAMETERS = ("mesh", "scale", "particles", "position", "particle_mass", "initial_velocity",
               "initial_angular_velocity", "gravity", "walls", "collision_stiffness",
               "velocity_damping_stiffness", "friction_stiffness", "dt", "integrator")
 
 
-def write(doc, out: Path, configs, runs, flip, validation, bench, stills) -> None:
+def write(doc, out: Path, configs, runs, flip, validation, bench, stills, many=None, bench_many=None) -> None:
     doc.para("Name: ____________________")
     doc.para("UID: ____________________")
     doc.heading("Assignment 3: a rigid body simulator in Taichi")
@@ -53,7 +55,10 @@ def write(doc, out: Path, configs, runs, flip, validation, bench, stills) -> Non
     if stills:
         doc.heading("Frames from a recording", 2)
         for path in stills:
-            doc.image(path, f"{path.stem}: `--scene assets/scenes/thrown_sphere.toml --record`", width_cm=9)
+            doc.image(path, f"{path.stem}: `--scene assets/scenes/thrown_sphere.toml --record`, drawn offscreen "
+                      "by the project's Taichi rasteriser (`rigid/view/raster.py`)", width_cm=9)
+    if many:
+        text_many.write(doc, out, many["pile"], many["dominoes"], bench_many)
 
     doc.heading("Bonus features", 2)
     doc.bullets(BONUS)
@@ -106,15 +111,20 @@ BONUS = [
     "measured orders are in the validation table.",
     "**Volume sampling**: `--particles volume --grid N` fills a watertight mesh with particles; "
     "its I0/M matches trimesh's solid inertia within 1% at N = 64.",
-    "**Recording**: `--record out.mp4|out.gif` renders offscreen on a machine with no GPU or display.",
+    "**Many bodies**: `[[body]]` tables and `--count N` put several bodies in the box; they collide "
+    "through their particles, with bit-reproducible runs (see the many-bodies section).",
+    "**Recording**: `--record out.mp4|out.gif` renders offscreen with the project's own Taichi rasteriser "
+    "(`rigid/view/raster.py`), on a machine with no GPU, no display and no Vulkan.",
     "**Grading**: `scripts/make_handout.py` and `scripts/grade.py` make the student file and grade "
     "each TODO on its own, in isolated processes.",
     "**Speed**: a rendered frame is one kernel launch; see the speed table.",
 ]
 
 IDEAS = [
-    "Collisions between several bodies (the fields already hold B bodies with a body index): "
-    "a broad phase on bounding spheres, then particle-against-SDF contacts.",
+    "Faster many-body contact (both speed targets were missed): a broad phase on bounding spheres "
+    "so that bodies far from all others skip the particle search, and sleeping for bodies at rest.",
+    "Smoother contact between bodies: particles make flat faces bumpy (the stack needs its "
+    "half-spacing offsets); particle-against-SDF contact would let flat faces rest flat.",
     "Implicit or velocity-level contact (impulses, or a linearised implicit Euler step) to allow "
     "stiff contacts at large Δt without the penalty springs' stability bound.",
     "An energy-conserving rotation update (e.g. the exponential map on SO(3)) for long free flights.",
