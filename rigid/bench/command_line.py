@@ -36,6 +36,10 @@ CASES = [("sphere (42 vertices)", ["--mesh", str(ROOT / "assets/sphere.obj"), "-
                                       "--v0", "1", "0", "0.6"], 120, 1_320)]
 
 
+# The 27-sphere case's command line as config keys, for its in-process engine figure.
+MANY_CONFIG = dict(mesh=str(ROOT / "assets/sphere.obj"), scale=0.15, count=27, initial_velocity=(1.0, 0.0, 0.6))
+
+
 def wall_time(args: list[str], frames: int, export: Path | None, timeout: float = 600) -> float:
     """Seconds from starting ``rigid_body_dynamic.py --headless --frames N ARGS`` to its exit."""
     command = [sys.executable, str(ROOT / "rigid_body_dynamic.py"), "--headless", "--frames", str(frames), *args]
@@ -57,17 +61,16 @@ def per_substep_us(args: list[str], short: int, long: int, export: Path | None) 
     return dict(us=round(us, 3), short_s=round(medians[short], 3), long_s=round(medians[long], 3))
 
 
-def engine_us_many(args: list[str]) -> float:
-    """The engine's µs per substep for a CLI case, in process (as rigid.bench.speed times bodies)."""
+def engine_us_many(config_keys: dict) -> float:
+    """The engine's µs per substep for a case, in process (as rigid.bench.speed times bodies)."""
     import taichi as ti
 
     from rigid.bench.speed import EngineRunner, time_frames
-    from rigid.cli import build_parser, config_from_args
+    from rigid.config import SimConfig
     from rigid.engine.simulator import Simulator
     from rigid.engine.units import load_units
 
-    config = config_from_args(build_parser().parse_args(args))
-    sim = Simulator(config, load_units(ROOT / "rigid_body_dynamic.py"))
+    sim = Simulator(SimConfig(**config_keys).validate(), load_units(ROOT / "rigid_body_dynamic.py"))
     return time_frames(EngineRunner(sim), 120, REPEATS, SUBSTEPS, ti.sync)
 
 
@@ -80,7 +83,7 @@ def measure(engine_rows: list[dict]) -> list[dict]:
         for label, args, short, long in CASES:
             engine = next((r["engine_us"] for r in engine_rows if r["body"] == label), None)
             if engine is None:
-                engine = engine_us_many(args)
+                engine = engine_us_many(MANY_CONFIG)
             plain = per_substep_us(args, short, long, None)
             exported = per_substep_us(args, short, long, export)
             row = dict(body=label, frames_short=short, frames_long=long, engine_us=round(engine, 3),

@@ -29,7 +29,7 @@ class _NothingWritten(Exception):
 def record(sim, path, frames: int, resolution, export_path=None, screenshot=None,
            progress: bool = True) -> RunResult:
     """Record ``frames`` frames of ``sim`` into ``path`` (.mp4 or .gif) at ``resolution`` (W, H)."""
-    from .render import SceneRenderer  # GGUI starts Vulkan: import it only when recording
+    from .render import SceneRenderer  # the renderer's fields and kernels: only when recording
 
     path = Path(path)
     size = (int(resolution[0]), int(resolution[1]))

@@ -1,6 +1,6 @@
 """Is there a Vulkan device for GGUI? Asked before Taichi tries, so the answer is one line.
 
-Taichi's GGUI (the window and offscreen recording) needs Vulkan. Without it,
+Taichi's GGUI (the window; recordings draw with raster.py and need no Vulkan) needs Vulkan. Without it,
 Taichi prints a C++ "RHI Error" and raises; a window without a display even
 ends the process from C++. So we ask the Vulkan loader ourselves (ctypes,
 no extra package): create an instance, count the physical devices. On a
