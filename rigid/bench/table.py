@@ -144,7 +144,8 @@ def command_line_markdown(result: dict) -> str:
     return ("The command line, as a user runs it: whole `python rigid_body_dynamic.py --headless --frames N` "
             "processes, (median wall of a long run − median wall of a short one) / (extra frames × 16 substeps), "
             f"{first['frames_long'] - first['frames_short']:,} extra frames for the sphere "
-            "(rigid/bench/command_line.py); the engine column is the in-process figure above:\n\n" +
+            "(rigid/bench/command_line.py); the engine column is the in-process figure above. Load averages "
+            f"{[c.get('load_average') for c in result['command_line']]} at the rows' ends:\n\n" +
             "\n".join(lines))
 
 
