@@ -8,7 +8,7 @@ import time
 import numpy as np
 import pytest
 
-from conftest import ROOT, SOLUTION, run_cli
+from conftest import ROOT, SOLUTION, default_sigint, killed_at_exit, run_cli
 
 ROW_SHAPES = {"t": (), "x": (3,), "q": (4,), "v": (3,), "omega": (3,), "P": (3,), "L": (3,),
               "kinetic_energy": (), "potential_energy": ()}
@@ -60,13 +60,15 @@ def test_blow_up_stops_with_one_line_and_keeps_good_frames(tmp_path):
 def test_interrupted_export_is_complete_and_readable(tmp_path):
     out = tmp_path / "t.npz"
     proc = subprocess.Popen([sys.executable, str(SOLUTION), "--headless", "--frames", "10000000",
-                             "--export", str(out)], cwd=ROOT, stderr=subprocess.PIPE, text=True)
-    for line in proc.stderr:  # wait for the frame loop to start (after compiling)
-        if line.startswith("simulating"):
-            break
-    time.sleep(2.0)
-    proc.send_signal(signal.SIGINT)
-    _, err = proc.communicate(timeout=60)
+                             "--export", str(out)], cwd=ROOT, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=default_sigint)
+    with killed_at_exit(proc):
+        for line in proc.stderr:  # wait for the frame loop to start (after compiling)
+            if line.startswith("simulating"):
+                break
+        time.sleep(2.0)
+        proc.send_signal(signal.SIGINT)
+        _, err = proc.communicate(timeout=60)
     assert proc.returncode == 130, err
     d = np.load(out)
     assert len(d["t"]) > 2 and np.all(np.isfinite(d["x"]))

@@ -1,29 +1,24 @@
 """Many bodies colliding: conservation, restitution, piles, stacks, dominoes, non-convex contact.
 
 Float64 numbers come from tests/many_body_fp64_worker.py, started in the background when this
-module is imported (one ti.init per process); the scenes run here in float32.
+module is imported (one ti.init per process; under xdist by the first test that needs it, see
+background.py); the scenes run here in float32, their Simulators shared with test_scenes.py.
 """
 import hashlib
-import json
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 
+from background import Worker
 from conftest import ROOT, run_cli
 
-WORKER = Path(__file__).resolve().parent / "many_body_fp64_worker.py"
-_worker = subprocess.Popen([sys.executable, str(WORKER)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                           text=True)
+_worker = Worker(Path(__file__).resolve().parent / "many_body_fp64_worker.py", timeout_s=300).start_early()
 
 
 @pytest.fixture(scope="module")
 def fp64():
-    out, err = _worker.communicate(timeout=300)
-    assert _worker.returncode == 0, err[-3000:]
-    return json.loads(out)
+    return _worker.result()
 
 
 def test_head_on_conserves_total_momentum(fp64):
@@ -53,19 +48,26 @@ def test_restitution_matches_the_damped_spring(fp64):
         assert abs(r["measured"] - r["expected"]) < 0.03 * r["expected"], r
 
 
-def scene_sim(units, name, **changes):
+@pytest.fixture
+def scene_sim(units, shared_simulators):
+    """scene_sim(name, **changes) -> the scene's Simulator (built once per process: test_scenes.py
+    runs the same scenes through the command line), at its initial state."""
     from rigid.config import SimConfig, load_scene
     from rigid.engine.simulator import Simulator
 
-    values = load_scene(ROOT / "assets" / "scenes" / f"{name}.toml")
-    values.update(changes)
-    return Simulator(SimConfig(**values).validate(), units)
+    def get(name, **changes):
+        values = load_scene(ROOT / "assets" / "scenes" / f"{name}.toml")
+        values.update(changes)
+        config = SimConfig(**values).validate()
+        return shared_simulators.get(config, lambda: Simulator(config, units))
+
+    return get
 
 
-def test_damped_pile_loses_energy_and_stays_in_the_box(units):
+def test_damped_pile_loses_energy_and_stays_in_the_box(scene_sim):
     # 27 spheres in a narrow box (walls at ±0.4 m: 3 x 3 x 3), so that they pile up.
-    sim = scene_sim(units, "pile", wall=0.4, bodies=(dict(mesh=str(ROOT / "assets" / "sphere.obj"), scale=0.1,
-                                                          grid=5, count=27, position=(0.0, -0.85, 0.0)),))
+    sim = scene_sim("pile", wall=0.4, bodies=(dict(mesh=str(ROOT / "assets" / "sphere.obj"), scale=0.1,
+                                                   grid=5, count=27, position=(0.0, -0.85, 0.0)),))
     energies, overlaps = [], []
     for frame in range(150):
         row = sim.snapshot()
@@ -89,8 +91,8 @@ def test_damped_pile_loses_energy_and_stays_in_the_box(units):
     assert depth.max() < 0.4 * r, depth.max() / r
 
 
-def test_stack_stands(units):
-    sim = scene_sim(units, "stack")
+def test_stack_stands(scene_sim):
+    sim = scene_sim("stack")
     for _ in range(60):  # 1 s to settle from the 2 mm gaps
         sim.step_frame()
     start = sim.snapshot()["x"][-1]
@@ -100,8 +102,8 @@ def test_stack_stands(units):
     assert moved < 0.01, f"the top box moved {moved:.4f} m"
 
 
-def test_dominoes_all_fall_in_turn(units):
-    sim = scene_sim(units, "dominoes")
+def test_dominoes_all_fall_in_turn(scene_sim):
+    sim = scene_sim("dominoes")
     tipped = np.full(24, -1)  # frame at which each domino first leans past 15 degrees
     for frame in range(150):
         sim.step_frame()
@@ -114,10 +116,10 @@ def test_dominoes_all_fall_in_turn(units):
     assert np.all(tilt > 30), tilt.round(0)
 
 
-def test_ball_passes_through_the_torus_hole_untouched(units):
+def test_ball_passes_through_the_torus_hole_untouched(scene_sim):
     from scipy.spatial import cKDTree
 
-    sim = scene_sim(units, "ball_through_torus")
+    sim = scene_sim("ball_through_torus")
     body = sim.model.particle_body.to_numpy()
     r = sim.model.radius_np
     closest, lowest = np.inf, np.inf
@@ -143,14 +145,21 @@ def test_single_body_export_unchanged():
     assert digest == "8b34b4ff65be3fb174c52ce6b2ad0fd65810e7c878738c7a186c0ce9338d6ef7", digest
 
 
-def test_count_flag_and_refusals(tmp_path):
+def test_count_flag_and_refusals(tmp_path, monkeypatch, capsys):
     out = tmp_path / "m.npz"
     proc = run_cli("--count", "4", "--scale", "0.2", "--headless", "--frames", "3", "--export", out)
     assert proc.returncode == 0, proc.stderr
     d = np.load(out)
     assert d["x"].shape == (4, 4, 3) and d["q"].shape == (4, 4, 4) and d["mass"].shape == (4,)
     assert d["inertia_body"].shape == (4, 3, 3) and d["kinetic_energy"].shape == (4,)
-    proc = run_cli("--scene", "assets/scenes/stack.toml", "--mesh", "assets/box.obj", "--headless")
-    assert proc.returncode == 2 and proc.stderr.startswith("error: --mesh sets one body"), proc.stderr
-    proc = run_cli("--count", "3", "--integrator", "rk4", "--headless")
-    assert proc.returncode == 2 and "rk4' runs one body only" in proc.stderr
+    # The refusals come before Taichi starts: run in this process (test_bad_input.py runs a real
+    # process for a refusal's exit code and stderr).
+    from rigid.cli import main
+
+    monkeypatch.chdir(ROOT)
+    code = main(["--scene", "assets/scenes/stack.toml", "--mesh", "assets/box.obj", "--headless"])
+    err = capsys.readouterr().err
+    assert code == 2 and err.startswith("error: --mesh sets one body"), err
+    code = main(["--count", "3", "--integrator", "rk4", "--headless"])
+    err = capsys.readouterr().err
+    assert code == 2 and "rk4' runs one body only" in err, err

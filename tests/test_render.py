@@ -16,7 +16,7 @@ import av
 import numpy as np
 import pytest
 
-from conftest import ROOT, SOLUTION
+from conftest import ROOT, SOLUTION, default_sigint, killed_at_exit
 
 W, H = 160, 120
 
@@ -146,14 +146,16 @@ def test_ctrl_c_finalises_a_playable_file_with_the_frames_so_far(tmp_path):
     out.write_bytes(b"an older recording")
     proc = subprocess.Popen([sys.executable, str(SOLUTION), "--record", str(out), "--frames", "100000",
                              "--resolution", str(W), str(H)], cwd=ROOT, stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True, env=no_vulkan_env(tmp_path))
+                            stderr=subprocess.PIPE, text=True, env=no_vulkan_env(tmp_path),
+                            preexec_fn=default_sigint)
     partial = tmp_path / ".long.partial.mp4"
-    deadline = time.time() + 60
-    while not partial.exists() and time.time() < deadline and proc.poll() is None:
-        time.sleep(0.05)
-    time.sleep(0.7)  # some frames
-    proc.send_signal(signal.SIGINT)
-    _, stderr = proc.communicate(timeout=60)
+    with killed_at_exit(proc):
+        deadline = time.time() + 60
+        while not partial.exists() and time.time() < deadline and proc.poll() is None:
+            time.sleep(0.05)
+        time.sleep(0.7)  # some frames
+        proc.send_signal(signal.SIGINT)
+        _, stderr = proc.communicate(timeout=60)
     assert proc.returncode == 130, stderr
     frames, stream, _ = decode(out)
     assert 0 < len(frames) < 100000 and stream.average_rate == 60

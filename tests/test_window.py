@@ -11,7 +11,7 @@ import time
 import numpy as np
 import pytest
 
-from conftest import ROOT, SOLUTION
+from conftest import SOLUTION, default_sigint
 
 
 def needs_xvfb_and_vulkan():
@@ -47,6 +47,7 @@ def test_ctrl_c_in_a_terminal_running_xvfb_run_keeps_the_export_and_exits_130(tm
     master, slave = os.openpty()
 
     def foreground_job_of_the_new_terminal():
+        default_sigint()
         os.setsid()
         fcntl.ioctl(slave, termios.TIOCSCTTY, 0)
         os.tcsetpgrp(slave, os.getpgrp())
