@@ -157,3 +157,19 @@ def test_a_long_headless_run_takes_few_launches(sim_cache):
         del sim.advance_frames
     assert result.status == "done" and result.frames == 600 and sum(calls) == 600
     assert calls[0] == 1 and len(calls) < 40, calls  # frame by frame would be 600 launches
+
+
+def test_reconfigure_moves_and_launches_many_bodies(units):
+    """Simulator.reconfigure with a new position or velocity places many bodies again (it once
+    kept the bodies of the build's config): every centre moves by the offset, every body moves
+    with the new velocity, the model is the same."""
+    from rigid.config import SimConfig
+    from rigid.engine.simulator import Simulator
+
+    sim = Simulator(SimConfig(count=3, scale=0.25).validate(), units)
+    x0 = sim.snapshot()["x"]
+    assert np.allclose(sim.snapshot()["v"], 0.0)
+    sim.reconfigure(position=(0.1, 0.0, -0.05), initial_velocity=(0.5, 1.0, -0.25))
+    snap = sim.snapshot()
+    assert np.allclose(snap["x"] - x0, [0.1, 0.0, -0.05], atol=1e-6)
+    assert np.allclose(snap["v"], [0.5, 1.0, -0.25], atol=1e-6)

@@ -32,6 +32,7 @@ class Simulator:
         self.many = config.many_bodies or (bodies is not None and len(bodies) > 1)
         if self.many:
             self.bodies = scene_bodies(config) if bodies is None else bodies
+            self._bodies_from_config = bodies is None
             if config.walls:
                 check_inside_box(self.bodies, config.floor, config.wall, use_radius=True)
             parts = [BodyParts(b.geometry.particles, b.geometry.vertices, b.geometry.faces, b.particle_mass,
@@ -84,8 +85,24 @@ class Simulator:
             raise ValueError(f"{fixed} need a new Simulator (they change the model or the kernels)")
         self.config = self.config.replace(**changes).validate()
         self.params.load(self.config)
+        if self.many and set(changes) & self.PLACEMENT_KEYS:
+            self._place_again()
         self.reset()
         return self
+
+    PLACEMENT_KEYS = frozenset({"position", "initial_velocity", "initial_angular_velocity", "seed"})
+
+    def _place_again(self):
+        """Many bodies start from their BodySpecs: place them again from the changed config
+        (the same meshes, so the model and kernels stay)."""
+        if not self._bodies_from_config:
+            raise ValueError("this Simulator was built from a list of bodies: build a new one to move them")
+        bodies = scene_bodies(self.config)
+        if [len(b.geometry.particles) for b in bodies] != [len(b.geometry.particles) for b in self.bodies]:
+            raise ValueError("the changed config places other bodies: build a new Simulator")
+        if self.config.walls:
+            check_inside_box(bodies, self.config.floor, self.config.wall, use_radius=True)
+        self.bodies = bodies
 
     def step_frame(self, substeps: int | None = None):
         """One frame (1/60 s, or ``substeps`` substeps); nothing is read back."""
