@@ -5,6 +5,8 @@ References here come from outside the rows: the state fields read after each ``s
 energies recomputed in numpy (½ P·v + ½ L·ω; −M g·x + Σ ½ k depth² over the box's planes),
 and a blow-up found by a frame-by-frame loop with its own checks.
 """
+import contextlib
+
 import numpy as np
 import pytest
 
@@ -106,6 +108,18 @@ def test_a_chunk_is_refused_beyond_the_row_buffer(sim_cache):
         sim.advance_frames(sim.rows.capacity + 1)
 
 
+@contextlib.contextmanager
+def counting_launches(sim):
+    """Yields the list of frame counts ``sim.advance_frames`` is called with while inside."""
+    calls = []
+    original = sim.advance_frames
+    sim.advance_frames = lambda frames: calls.append(frames) or original(frames)
+    try:
+        yield calls
+    finally:
+        del sim.advance_frames
+
+
 def first_bad_frame(sim, frames: int) -> int:
     """Frame-by-frame: the first frame whose state is non-finite or whose energy rose past the bound."""
     def energy(s):
@@ -129,14 +143,9 @@ def test_a_blow_up_inside_a_chunk_keeps_exactly_the_good_frames(sim_cache, tmp_p
     bad = first_bad_frame(sim, 300)
     assert bad > 8, "the blow-up should fall inside a chunk, not in the first frames"
     sim = sim_cache(**stiff)
-    calls = []
-    original = sim.advance_frames
-    sim.advance_frames = lambda frames: calls.append(frames) or original(frames)
-    try:
-        out = tmp_path / "t.npz"
+    out = tmp_path / "t.npz"
+    with counting_launches(sim) as calls:
         result = run_frames(sim, 300, export_path=out)
-    finally:
-        del sim.advance_frames
     assert result.status == "blew-up" and result.frames == bad - 1, (result, bad)
     assert f"(frame {bad})" in result.message
     assert max(calls) > 1, "the run should have been chunked"
@@ -148,13 +157,8 @@ def test_a_blow_up_inside_a_chunk_keeps_exactly_the_good_frames(sim_cache, tmp_p
 
 def test_a_long_headless_run_takes_few_launches(sim_cache):
     sim = sim_cache(**THROWN)
-    calls = []
-    original = sim.advance_frames
-    sim.advance_frames = lambda frames: calls.append(frames) or original(frames)
-    try:
+    with counting_launches(sim) as calls:
         result = run_frames(sim, 600)
-    finally:
-        del sim.advance_frames
     assert result.status == "done" and result.frames == 600 and sum(calls) == 600
     assert calls[0] == 1 and len(calls) < 40, calls  # frame by frame would be 600 launches
 

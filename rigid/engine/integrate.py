@@ -33,6 +33,7 @@ import taichi as ti
 
 from .blocks import ParticleBlocks
 from .frame_rows import ChunkGraphs, FrameRows, make_record_kernel
+from .graphs import RepeatedGraphs
 from .matvec import matvec
 from .updates import make_updates
 from .wrench import make_wrench
@@ -74,7 +75,6 @@ class Integrator:
         self.largest_body = int(model.body_count.to_numpy().max())  # particles
         self.threshold = parallel_threshold()
         self._parallel_frame = None
-        self._serial_graph = None
         self._build(units)
 
     def _build(self, u):
@@ -165,6 +165,7 @@ class Integrator:
         self.record = make_record_kernel(self.rows, s, model.num_particles, particle_energy, parallel_energy=gpu)
         self.particle_energy = particle_energy  # ti.func of a particle index (tests build the GPU variant)
         self._chunks = ChunkGraphs(advance_serial, self.record)
+        self._serial_frame = RepeatedGraphs(repeated=[(advance_serial, True)])
 
     @property
     def uses_parallel(self) -> bool:
@@ -195,9 +196,4 @@ class Integrator:
                                                      *self._parallel_parts)
             self._parallel_frame.advance(substeps)
         else:
-            if self._serial_graph is None:
-                # A one-kernel graph: launching it costs ~2 µs, a kernel called from Python ~12 µs.
-                builder = ti.graph.GraphBuilder()
-                builder.dispatch(self.advance_serial, ti.graph.Arg(ti.graph.ArgKind.SCALAR, "n", ti.i32))
-                self._serial_graph = builder.compile()
-            self._serial_graph.run({"n": substeps})
+            self._serial_frame.run(1, n=substeps)  # a one-kernel graph: ~2 µs to launch, a call ~12 µs

@@ -25,6 +25,8 @@ evaluations per substep would need four such tasks.
 """
 import taichi as ti
 
+from .graphs import RepeatedGraphs
+
 
 class ParallelFrame:
     def __init__(self, model, state, params, blocks, block_wrench, update, write_particles):
@@ -58,15 +60,8 @@ class ParallelFrame:
             write_particles()
 
         self.substep, self.write = substep, write
-        self._graphs = {}
+        self._graphs = RepeatedGraphs(repeated=[(substep, False)], then=[(write, False)])
 
     def advance(self, substeps: int):
         """n substeps of every body, then the particle positions: one graph launch."""
-        graph = self._graphs.get(substeps)
-        if graph is None:
-            builder = ti.graph.GraphBuilder()
-            for _ in range(substeps):
-                builder.dispatch(self.substep)
-            builder.dispatch(self.write)
-            graph = self._graphs[substeps] = builder.compile()
-        graph.run({})
+        self._graphs.run(substeps)

@@ -60,7 +60,12 @@ class Simulator:
     @property
     def substeps(self) -> int:
         """Substeps per frame for the current Δt (the GUI may change Δt)."""
-        return max(1, int((1.0 / 60.0) // float(self.params.dt[None])))
+        return self._frame_steps()[1]
+
+    def _frame_steps(self) -> tuple[float, int]:
+        """(Δt, substeps per 1/60 s frame); Δt read once (each read costs ~5 µs)."""
+        dt = float(self.params.dt[None])
+        return dt, max(1, int((1.0 / 60.0) // dt))
 
     def reset(self):
         """Back to the initial state of the config; the model is kept (no mesh reload)."""
@@ -106,8 +111,8 @@ class Simulator:
 
     def step_frame(self, substeps: int | None = None):
         """One frame (1/60 s, or ``substeps`` substeps); nothing is read back."""
-        dt = float(self.params.dt[None])  # one read per launch: each costs ~5 µs
-        n = max(1, int((1.0 / 60.0) // dt)) if substeps is None else substeps
+        dt, n = self._frame_steps()
+        n = n if substeps is None else substeps
         self.integrator.advance(n)
         self.time += n * dt
         self.frame += 1
@@ -118,8 +123,7 @@ class Simulator:
         for one body or (frames, B, 3) for many, ...)."""
         if not 1 <= frames <= self.rows.capacity:
             raise ValueError(f"frames = {frames}: one launch runs 1 to {self.rows.capacity} frames")
-        dt = float(self.params.dt[None])
-        n = max(1, int((1.0 / 60.0) // dt))
+        dt, n = self._frame_steps()
         self.integrator.advance_recorded(n, frames)
         times = []
         for _ in range(frames):  # the same sums as frame by frame: t is bit-identical
@@ -152,6 +156,8 @@ class Simulator:
         every block: kinetic ½ P·v + ½ L·ω, potential −M g·x + the contact springs')."""
         body, contact = self.rows.read(len(times))
         rows = split_rows(body)
+        if not self.many:  # one body: (k, 3) vectors, not (k, 1, 3)
+            rows = {key: value[:, 0] for key, value in rows.items()}
         g = np.asarray(self.params.gravity[None].to_numpy(), dtype=np.float64)
         P, v, L, omega, x = rows["P"], rows["v"], rows["L"], rows["omega"], rows["x"]
         if self.many:
@@ -159,8 +165,6 @@ class Simulator:
             kinetic = 0.5 * (P * v).reshape(k, -1).sum(axis=1) + 0.5 * (L * omega).reshape(k, -1).sum(axis=1)
             potential = -((x @ g) @ self.model.body_mass_np) + contact
         else:
-            rows = {key: value[:, 0] for key, value in rows.items()}
-            P, v, L, omega, x = rows["P"], rows["v"], rows["L"], rows["omega"], rows["x"]
             kinetic = 0.5 * _dot3(P, v) + 0.5 * _dot3(L, omega)
             potential = -self.model.mass * _dot3(x, g) + contact
         return dict(t=np.asarray(times, np.float64), **rows, kinetic_energy=kinetic, potential_energy=potential)

@@ -28,6 +28,7 @@ import os
 import taichi as ti
 
 from .frame_rows import ChunkGraphs, FrameRows, make_record_kernel
+from .graphs import RepeatedGraphs
 from .grid import NeighbourGrid
 from .matvec import matvec
 from .pair_contact import pair_force, sphere_wall_force
@@ -54,7 +55,6 @@ class WorldIntegrator:
         self.particle_f = ti.Vector.field(3, float, shape=n)
         self.particle_couple = ti.Vector.field(3, float, shape=n)
         self.serial = world_uses_serial(n) if serial is None else bool(serial)
-        self._graphs = {}
         self._build(units)
 
     def _build(self, u):
@@ -218,6 +218,8 @@ class WorldIntegrator:
         self.record = make_record_kernel(self.rows, s, N, particle_energy, parallel_energy=gpu)
         self.particle_energy = particle_energy  # ti.func of a particle index (tests build the GPU variant)
         self._chunks = ChunkGraphs(frame_serial, self.record)
+        self._parallel_frames = RepeatedGraphs(repeated=[(place_parallel, False), (forces_and_bodies, False)],
+                                               then=[(place_parallel, False), (finish_parallel, False)])
 
     def init_state(self, x0, q0, v0, w0):
         """Initial state of every body from (B, 3/4) float64 arrays, then the particles and meshes."""
@@ -243,13 +245,4 @@ class WorldIntegrator:
         if self.serial:
             self.frame_serial(substeps)
             return
-        graph = self._graphs.get(substeps)
-        if graph is None:
-            builder = ti.graph.GraphBuilder()
-            for _ in range(substeps):
-                builder.dispatch(self.place_parallel)
-                builder.dispatch(self.forces_and_bodies)
-            builder.dispatch(self.place_parallel)
-            builder.dispatch(self.finish_parallel)
-            graph = self._graphs[substeps] = builder.compile()
-        graph.run({})
+        self._parallel_frames.run(substeps)
