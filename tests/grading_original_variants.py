@@ -1,48 +1,148 @@
 """Submissions in the course's original handout format, for the grader's tests.
 
-The files under tests/data/original_handout/ were written for these tests from
-the description in issue 14 (the course's own file is not in this repository):
-solved.py, unsolved.py (as handed out), bonus_friction.py (solved, with other
-parameters, a mesh it does not include, its own local names, velocity-first
-TODO 5 and bonus damping and friction outside the TODOs) and
-window_and_double_init.py (solved; ti.init twice, legacy ti.GUI, a loop that
-never checks gui.running). ``make(name)`` also builds variants of them with
-mistakes; WRONG[name] = {TODO that must lose its points: words of its message}.
+tests/data/original_handout/solved.py and unsolved.py were written for these
+tests in the shape of the course's assignment_3/rigid_body_dynamic.py (2024,
+github.com/Shimingyi/COMP3360_Data_Driven_Animation): the same given statements
+in the same order, ``body_force`` and ``body_torque`` declared by the given code
+before the loops that hold TODOs 3 and 4, the ``pass`` lines, the hint comments
+(TODO 5's velocity first, TODO 7's local ``body_inverse_inertia``, as changed in
+April 2023), ``sphere.obj`` read from the working folder and the window loop.
+Every other file here is made from them by ``make(name)``, replacing lines that
+must each occur exactly once, so a change of the fixtures that breaks a variant
+fails loudly instead of testing something else.
+
+WRONG[name] = {TODO that must lose its points: words of its message}; every
+other TODO of that file must pass. FULL: files that must score full marks
+(with NOTES[name]: words one of the file's notes must contain).
 """
 from pathlib import Path
 
 FOLDER = Path(__file__).resolve().parent / "data" / "original_handout"
 SOLVED = (FOLDER / "solved.py").read_text()
-FILES = ("solved", "unsolved", "bonus_friction", "window_and_double_init")
+FILES = ("solved", "unsolved")
 
-# name: (file it starts from, {line of that file: replacement})
+L1 = "        inertia += particle_mass * (r.dot(r) * ti.Matrix.identity(float, 3) - r.outer_product(r))\n"
+L2 = "        particle_force[i] = particle_mass * gravity\n"
+L3 = "        body_force += particle_force[i]\n"
+L4 = "        body_torque += ti.math.cross(arm, particle_force[i])\n"
+L5V = "    body_velocity[None] += dt * body_force / body_mass[None]\n"
+L5X = "    body_cm_position[None] += dt * body_velocity[None]\n"
+L6 = "    d_q = 0.5 * quaternion_multiplication(ti.Vector([0, w[0], w[1], w[2]]), body_rotation_quaternion[None])\n"
+L7L = "    body_angular_momentum[None] += dt * body_torque\n"
+L7I = ("    body_inverse_inertia = body_rotation[None] @ body_origin_inverse_inertia[None] @ "
+       "body_rotation[None].transpose()\n")
+M = {k: line for k, line in (  # the marker lines of solved.py
+    (1, "    # TODO 1: Compute the inertia tensor of the body\n"), (2, "        # TODO 2: gravity\n"),
+    (3, "        # TODO 3: compute the force for rigid body\n"), (4, "        # TODO 4: compute the torque for rigid body\n"),
+    (5, "    # TODO 5: update the center of mass position and velocity\n"),
+    (6, "    # TODO 6: update the rotation quaternion\n"),
+    (7, "    # TODO 7: update, the angular momentum, inertia tensor and angular velocity\n"))}
+WINDOW = SOLVED[SOLVED.index("window = ti.ui.Window("):]
+WALL_FLOOR = ("            f_collision = collision_stiffness * (-1 - particle_vertices[i][1])\n"
+              "            particle_force[i] += ti.Vector([0, f_collision, 0])\n")
+
+# name: (file it starts from, {text of that file: replacement})
 SUBSTITUTIONS = {
-    # TODOs 2, 4, 6 wrong, in the file with two ti.init calls and a ti.GUI loop; the handout's
+    # one mistake each, in one TODO: only that TODO loses its points
+    "t1_no_mass": ("solved", {L1: L1.replace("particle_mass * (", "(")}),
+    "t2_no_mass": ("solved", {L2: L2.replace("particle_mass * gravity", "gravity")}),
+    "t3_sign": ("solved", {L3: L3.replace("+=", "-=")}),
+    "t4_swapped_cross": ("solved", {L4: L4.replace("cross(arm, particle_force[i])", "cross(particle_force[i], arm)")}),
+    "t5_no_dt": ("solved", {L5X: L5X.replace("dt * ", "")}),
+    "t6_no_half": ("solved", {L6: L6.replace("0.5 * ", "")}),
+    "t7_order": ("solved", {L7I: "    body_inverse_inertia = body_rotation[None].transpose() @ "
+                                 "body_origin_inverse_inertia[None] @ body_rotation[None]\n"}),
+    # mistakes the table of known mistakes does not list: a generic message naming what differs
+    "t1_outer_plus_mass_identity": ("solved", {L1: "        inertia += particle_mass * r.outer_product(r) + "
+                                                   "particle_mass * ti.Matrix.identity(float, 3)\n"}),
+    "t3_extra_mass": ("solved", {L3: "        body_force += particle_mass * particle_force[i]\n"}),
+    "t7_drops_old_L": ("solved", {L7L: "    body_angular_momentum[None] = dt * body_torque\n"}),
+    "t7_unrotated": ("solved", {L7I: "    body_inverse_inertia = body_origin_inverse_inertia[None]\n"}),
+    # what students hand in: every TODO right, written their way
+    "marker_variants": ("solved", {
+        M[1]: "    # TODO: 1: Compute the inertia tensor of the body\n", M[2]: "        #TODO 2 gravity\n",
+        M[3]: "        # todo 3: compute the force for rigid body\n", M[5]: "    # TODO #5 - update the center of mass\n",
+        M[6]: "    ## TODO(6): update the rotation quaternion\n",
+        M[7]: "    # TODO 7. update, the angular momentum, inertia tensor and angular velocity\n",
+        # TODO 4's marker moved above the given declaration and its loop
+        "    body_torque = ti.Vector([0.0, 0.0, 0.0])\n    for i in ti.grouped(particle_vertices):\n" + M[4]:
+            M[4].replace("        ", "    ") + "    body_torque = ti.Vector([0.0, 0.0, 0.0])\n"
+            "    for i in ti.grouped(particle_vertices):\n"}),
+    "layout": ("solved", {  # odd comment indentation, blank lines, a backslash, the pass kept
+        L1: L1 + "        pass\n",
+        L5V + L5X: L5V + "\n   # the position moves with the new velocity\n\n" + L5X,
+        L4: "      # torque about the centre of mass\n" + L4,
+        L7I: "    body_inverse_inertia = body_rotation[None] @ body_origin_inverse_inertia[None] \\\n"
+             "        @ body_rotation[None].transpose()\n"}),
+    "bonus_inside": ("solved", {  # damping inside TODOs 2 and 5 and after TODO 4's loop, friction at the floor
+        "dt = 1e-3\n": "dt = 1e-3\nair_drag = 0.02\nlinear_damping = 0.5\n",
+        L2: "        particle_force[i] = particle_mass * gravity - air_drag * particle_velocities[i]\n",
+        L5V: L5V + "    body_velocity[None] -= dt * linear_damping * body_velocity[None]\n",
+        "    # update the rigid body\n": "    # damping of the whole body (bonus)\n"
+                                       "    body_force -= 1e-3 * velocity_damping_stiffness * body_velocity[None]\n\n"
+                                       "    # update the rigid body\n",
+        WALL_FLOOR: WALL_FLOOR + "            v_t = particle_velocities[i] - ti.Vector([0.0, particle_velocities[i][1], 0.0])\n"
+                                 "            particle_force[i] -= friction_stiffness * f_collision * v_t\n"}),
+    "given_edits": ("solved", {  # edits of the given code cost nothing
+        "ti.init(arch=ti.cpu, debug=True)": "ti.init(arch=ti.cpu, debug=False)",
+        "substeps = int(1 / 60 // dt)": "substeps = int(1 / 120 // dt)",
+        '(1024, 1024),\n                      vsync=True)': "(640, 640), vsync=True)",
+        "        particle_velocities[i] = body_velocity[None] + ti.math.cross(body_angular_velocity[None], ri)\n":
+            "        particle_velocities[i] = body_velocity[None] + body_angular_velocity[None].cross(ri)\n"}),
+    "missing_marker_3": ("solved", {M[3]: ""}),
+    "syntax_error_todo4": ("solved", {L4: L4.replace("ti.math.cross(arm,", "ti.math..cross(arm,")}),
+    # the grader's older fixtures, now in the handout's shape: other parameters, a mesh the file does not
+    # include, its own local name for the total force, position-first TODO 5, friction outside the TODOs
+    "bonus_friction": ("solved", {
+        "particle_mass = 1\n": "particle_mass = 0.5\n",
+        "initial_velocity = ti.Vector([0.0, 0.0, 0.0])": "initial_velocity = ti.Vector([1.0, 0.0, -0.5])",
+        "initial_angular_velocity = ti.Vector([0.0, 0, 0.0])": "initial_angular_velocity = ti.Vector([0.0, 3.0, 1.0])",
+        'file_path = "sphere.obj"': 'file_path = "my_bunny.obj"',
+        "    body_force = ti.Vector([0.0, 0.0, 0.0])\n": "    total_force = ti.Vector([0.0, 0.0, 0.0])\n",
+        L3: "        total_force += particle_force[i]\n",
+        L5V + L5X: L5X + L5V.replace("body_force", "total_force"),
+        WALL_FLOOR: WALL_FLOOR + "            v_t = particle_velocities[i] - ti.Vector([0.0, particle_velocities[i][1], 0.0])\n"
+                                 "            particle_force[i] -= friction_stiffness * f_collision * v_t\n"}),
+    # TODOs 2, 4, 6 wrong, ti.init twice, a legacy ti.GUI loop that never checks gui.running; the handout's
     # particle_mass = 1 hides TODO 2's slip in the file's own run (not in the perturbed one)
-    "mistakes_a": ("window_and_double_init", {
-        "particle_force[i] = particle_mass * gravity": "particle_force[i] = gravity",
-        "body_torque += arm.cross(particle_force[i])": "body_torque += particle_force[i].cross(arm)",
-        "body_rotation_quaternion[None] += 0.5 * dt * quaternion_multiplication(omega_q, body_rotation_quaternion[None])":
-            "body_rotation_quaternion[None] += dt * quaternion_multiplication(omega_q, body_rotation_quaternion[None])",
-    }),
+    "mistakes_a": ("solved", {
+        "ti.init(arch=ti.cpu, debug=True)": "ti.init(arch=ti.cpu, debug=True)\nti.init(arch=ti.cpu)",
+        L2: L2.replace("particle_mass * gravity", "gravity"),
+        L4: L4.replace("cross(arm, particle_force[i])", "cross(particle_force[i], arm)"),
+        L6: L6.replace("0.5 * ", ""),
+        WINDOW: "gui = ti.GUI('Rigid Body Simulation', (512, 512))\nsubsteps = int(1 / 60 // dt)\n\nwhile True:\n"
+                "    for i in range(substeps):\n        substep()\n"
+                "    gui.circles(particle_vertices.to_numpy()[:, :2] * 0.4 + 0.5, radius=2)\n    gui.show()\n"}),
     "mistakes_b": ("solved", {  # TODOs 1, 3, 5, 7 wrong; it reads its own mesh, dan_brick.obj
-        "inertia += particle_mass * (r.dot(r) * ti.Matrix.identity(float, 3) - r.outer_product(r))":
-            "inertia += r.dot(r) * ti.Matrix.identity(float, 3) - r.outer_product(r)",
-        "body_force += particle_force[i]": "body_force -= particle_force[i]",
-        "body_cm_position[None] += dt * body_velocity[None]": "body_cm_position[None] += body_velocity[None]",
-        "world_inverse_inertia = body_rotation[None] @ body_origin_inverse_inertia[None] @ body_rotation[None].transpose()":
-            "world_inverse_inertia = body_rotation[None].transpose() @ body_origin_inverse_inertia[None] @ body_rotation[None]",
-        'read_obj_file("sphere.obj", scale=0.3)': 'read_obj_file("dan_brick.obj", scale=0.3)',
-    }),
+        L1: L1.replace("particle_mass * (", "("),
+        L3: L3.replace("+=", "-="),
+        L5X: L5X.replace("dt * ", ""),
+        L7I: "    body_inverse_inertia = body_rotation[None].transpose() @ body_origin_inverse_inertia[None] @ "
+             "body_rotation[None]\n",
+        'file_path = "sphere.obj"': 'file_path = "dan_brick.obj"'}),
     # TODO 6 loops forever (the grader's time limit stops it; the other TODOs are graded in a fresh process)
     "hang_in_todo6": ("solved", {
-        "body_rotation_quaternion[None] += 0.5 * dt * quaternion_multiplication(omega_q, body_rotation_quaternion[None])":
-            "while body_rotation_quaternion[None].norm() > 0.5:\n        body_rotation_quaternion[None] *= 1.0",
-    }),
+        "    body_rotation_quaternion[None] += dt * d_q\n":
+            "    while body_rotation_quaternion[None].norm() > 0.5:\n        body_rotation_quaternion[None] *= 1.0\n"}),
 }
 WRONG = {
+    "t1_no_mass": {1: ["mass"]}, "t2_no_mass": {2: ["mass"]}, "t3_sign": {3: ["sign"]},
+    "t4_swapped_cross": {4: ["cross product"]}, "t5_no_dt": {5: ["does not depend on Δt"]},
+    "t6_no_half": {6: ["twice the expected rate"]}, "t7_order": {7: ["order"]},
+    "t1_outer_plus_mass_identity": {1: ["differs", "expected"]},
+    "t3_extra_mass": {3: ["factor of the mass"]},
+    "t7_drops_old_L": {7: ["lacks the old L"]},
+    "t7_unrotated": {7: ["body-frame I0⁻¹"]},
+    "missing_marker_3": {3: ["no '# TODO 3:' line", "body_force = ti.Vector"]},
+    "syntax_error_todo4": {4: ["syntax error at line"]},
     "mistakes_a": {2: ["mass"], 4: ["cross product"], 6: ["twice the expected rate"]},
     "mistakes_b": {1: ["mass"], 3: ["sign"], 5: ["does not depend on Δt"], 7: ["order"]},
+}
+FULL = ("solved", "marker_variants", "layout", "bonus_inside", "given_edits", "bonus_friction")
+NOTES = {
+    "bonus_inside": ["bonus", "air_drag", "linear_damping", "velocity_damping_stiffness"],
+    "given_edits": ["given code", "substeps"],
+    "bonus_friction": ["my_bunny.obj"],
 }
 
 
@@ -52,6 +152,6 @@ def make(name: str) -> str:
     base, replacements = SUBSTITUTIONS[name]
     text = make(base)
     for old, new in replacements.items():
-        assert text.count(old) == 1, f"{base}.py line not found exactly once: {old}"
+        assert text.count(old) == 1, f"{base}.py: text not found exactly once: {old!r}"
         text = text.replace(old, new)
     return text

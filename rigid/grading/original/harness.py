@@ -6,7 +6,10 @@ region's code runs on the file's own fields and helpers. Each call sets the
 body's fields from one row of inputs (STATE), runs the region, and returns what
 the TODO computes: the inertia (1), a particle's force (2), the total force (3)
 and torque (4), the new x and v (5), the new quaternion, renormalised as the
-given code does (6), the new L and ω (7). ``dt``, ``particle_mass`` and
+given code does (6), the new L and ω (7). The body's original centre
+``body_origin_cm_position`` is zero and particle 0's ``particle_origin_vertices``
+is r0, so a lever arm written R (r_orig − x_orig), as the handout's particle
+update does, or p − x, both read R r0. ``dt``, ``particle_mass`` and
 ``gravity`` are kernel arguments named like the file's globals, so inside the
 region they take each call's values (specs.py draws them far from the handout's
 1, 1 ms and -9.8 y). ``evaluate`` turns the results into the outputs of
@@ -47,7 +50,7 @@ def _get(name: str) -> str:
     return "ti.Vector([" + ", ".join(f"grader_in[{o + c}]" for c in range(n)) + "])"
 
 
-SETUP = (("body_cm_position", "x"), ("body_origin_cm_position", "x"), ("body_velocity", "v"),
+SETUP = (("body_cm_position", "x"), ("body_origin_cm_position", None), ("body_velocity", "v"),
          ("body_angular_velocity", "w"), ("body_rotation", "R"), ("body_rotation_quaternion", "q"),
          ("body_angular_momentum", "L"), ("body_origin_inverse_inertia", "I0_inv"), ("body_mass", "M"))
 PARTICLES = (("particle_vertices", "x", "p0"), ("particle_origin_vertices", None, "r0"),
@@ -78,8 +81,10 @@ def kernel(k: int, model) -> list:
            "    for grader_j in particle_vertices:"]
     out += [f"        {f}[grader_j] = {_get(v) if v else ZERO}" for f, v, _ in PARTICLES if f in fields]
     out += [f"    {f}[0] = {_get(v)}" for f, _, v in PARTICLES if v and f in fields]
-    out += [f"    {f}[None] = {_get(v)}" for f, v in SETUP if f in fields]
+    out += [f"    {f}[None] = {_get(v) if v else ZERO}" for f, v in SETUP if f in fields]
     body = "    "
+    if k in (1, 3, 4) and region.loop_var:  # the local the given code declares before the loop (handout)
+        out.append(f"    {region.shared} = {'ti.Matrix.zero(float, 3, 3)' if k == 1 else ZERO}")
     if region.loop_var:
         out.append(f"    {region.loop_header}")
         for statement in region.loop_context:

@@ -6,7 +6,10 @@ TODO for the reference run. They use only the handout's global fields and
 parameters, plus the locals handed between TODOs, whose names come from the
 student's own file (``shared``: {1: inertia, 3: total force, 4: total torque}).
 The quaternion product is written out, so a student's edit of the given helper
-functions cannot change the reference. The particle loop is the enclosing given
+functions cannot change the reference. Lever arms are ``particle_vertices[i] -
+body_cm_position[None]``: in the handout ``particle_origin_vertices`` holds the
+mesh's original world positions (offsets are taken from ``body_origin_cm_position``
+by the given particle update), and p − x = R r0 holds after every substep. The particle loop is the enclosing given
 loop when the TODO sits in one, else a loop of its own. Locals of these lines
 start with ``ref_`` and differ between TODOs, so two of them never clash.
 
@@ -18,14 +21,14 @@ DECLARE = {1: "ti.Matrix.zero(float, 3, 3)", 3: "ti.Vector([0.0, 0.0, 0.0])", 4:
 
 def _per_particle(k: int) -> list:
     if k == 1:
-        return ["ref1_r = particle_origin_vertices[{i}]",
+        return ["ref1_r = particle_vertices[{i}] - body_cm_position[None]",
                 "{I} += particle_mass * (ref1_r.dot(ref1_r) * ti.Matrix.identity(float, 3) "
                 "- ref1_r.outer_product(ref1_r))"]
     if k == 2:
         return ["particle_force[{i}] = particle_mass * ti.Vector([gravity[0], gravity[1], gravity[2]])"]
     if k == 3:
         return ["{F} += particle_force[{i}]"]
-    return ["ref4_arm = body_rotation[None] @ particle_origin_vertices[{i}]",
+    return ["ref4_arm = particle_vertices[{i}] - body_cm_position[None]",
             "{T} += ref4_arm.cross(particle_force[{i}])"]
 
 

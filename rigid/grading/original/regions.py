@@ -1,39 +1,62 @@
 """Where each TODO's code is in a file of the original handout's format.
 
-A TODO's region starts after its line ``# TODO k: title`` and runs until the
-first line (continuation lines of a statement never count) that is
+A TODO's marker is a comment line ``# TODO k: title`` in any reasonable spelling
+(``#TODO 1``, ``# todo 1:``, ``# TODO: 1: Compute ...``, ``# TODO #1``,
+``## TODO(1)``), at any indentation. Its region starts after the marker and
+runs until the first line (continuation lines of a statement never count) that is
 
-- another ``# TODO j`` line (or an ``# END TODO`` line),
-- less indented than the TODO line (the enclosing loop or kernel ends),
-- a comment as indented as the TODO line that starts given code: its first word
+- another TODO marker (or an ``# END TODO`` line),
+- a code line less indented than the marker (the enclosing loop or kernel ends);
+  comments never end a region by their indentation (a comment at 3 spaces inside
+  a 4-space block stays in),
+- a comment no more indented than the marker that starts given code: its first word
   begins with one of GIVEN_WORDS ("# Collision force ...", "# computer the torque ...",
   "# update the particles", "# normalize ...") and the code after it does not do
   the TODO's job (JOB: a student's own "# update the velocity" above their TODO 5
   lines is followed by writes of body_velocity, so it stays in the region); other
   comments (hints, the student's own notes) stay in the region,
-- for TODOs 1 and 6, a line as indented that writes a field the given code after them
-  sets (``body_origin_inverse_inertia[None] = ...``, ``body_rotation[None] = ...``).
+- a code line no more indented than the marker that is given code after this TODO
+  in the handout (ANCHORS: ``body_origin_inverse_inertia[None] = ...`` after TODO 1,
+  the collision ``if particle_vertices[i][1] < -1:`` after TODO 2, the declaration
+  of a later TODO's local ``body_torque = ...``, the quaternion's normalisation after
+  TODO 6's own update, the particle loop after TODO 7), or that does the job of a
+  later TODO whose marker is missing.
 
-Trailing blank lines are left out. The file need not parse (a syntax error in
-one TODO costs that TODO only); a TODO whose marker is missing or doubled is
-reported in ``problems`` and cannot be graded, the others can. Each region
-knows its kernel, the innermost
-``for`` loop around it (TODO 2 sits in the given particle loop) and, for TODOs
-1, 3 and 4, the local variable it hands on (the inertia, the total force, the
-total torque): the one the handout declares before it, or failing that the one
-the student's region assigns and later code reads.
+Trailing blank and comment lines are left out. The file need not parse (a syntax
+error in one TODO costs that TODO only); a TODO whose marker is missing (the
+message names the line expected, EXPECTED) or ambiguous is reported in
+``problems`` and cannot be graded, the others can. Each region knows its kernel,
+the innermost ``for`` loop around it (TODO 2 sits in the given particle loop; in
+the handout TODOs 3 and 4 sit in loops too) and, for TODOs 1, 3 and 4, the local
+variable it hands on (the inertia, the total force, the total torque): the one the
+given code declares before it (before its loop, as the handout does for
+``body_force`` and ``body_torque``), or failing that the one the student's region
+assigns and later code reads.
 """
 import re
 from dataclasses import dataclass, field
 
 from .scan import continuation_lines, indent_of
 
-MARKER = re.compile(r"^(?P<indent>[ \t]*)#\s*TODO\s*(?P<k>[1-7])(?![0-9])\s*:?\s*(?P<title>.*)$", re.IGNORECASE)
+MARKER = re.compile(r"^(?P<indent>[ \t]*)#+\s*TODO\s*[:#.(\[-]?\s*(?P<k>[1-7])(?![0-9]|\.[0-9])\s*[:.)\]-]?\s*"
+                    r"(?P<title>.*)$", re.IGNORECASE)
 END_MARKER = re.compile(r"^\s*#\s*END\s+TODO", re.IGNORECASE)
 GIVEN_WORDS = ("collision", "comput", "update", "normali", "given", "render", "draw")
-GIVEN_AFTER = {1: ("body_origin_inverse_inertia", "body_angular_momentum", "body_velocity"),
-               6: ("body_rotation",)}
 SHARED = {1: "inertia", 3: "body_force", 4: "body_torque"}  # default names of the locals handed on
+TITLES = {  # the handout's titles, to pick the marker when a TODO's number appears on two comment lines
+    1: "Compute the inertia tensor of the body", 2: "gravity", 3: "compute the force for rigid body",
+    4: "compute the torque for rigid body", 5: "update the center of mass position and velocity",
+    6: "update the rotation quaternion", 7: "update, the angular momentum, inertia tensor and angular velocity",
+}
+EXPECTED = {  # where the handout has each marker, for the message when one is missing
+    1: "in initial(), after `inertia = ti.Matrix(...)`",
+    2: "in substep(), first in the loop over the particles, before the collision force",
+    3: "in substep(), inside the loop after `body_force = ti.Vector([0.0, 0.0, 0.0])`",
+    4: "in substep(), inside the loop after `body_torque = ti.Vector([0.0, 0.0, 0.0])`",
+    5: "in substep(), after the torque loop",
+    6: "in substep(), before `# normalize the quaternion to avoid numerical error`",
+    7: "in substep(), after `body_rotation[None] = quaternion_to_matrix(...)`, before `# update the particles`",
+}
 JOB = {  # what the code of each TODO does, to tell a student's comment from the given code's
     1: r"outer_product|particle_origin_vertices|particle_vertices",
     2: r"\bgravity\b",
@@ -43,6 +66,20 @@ JOB = {  # what the code of each TODO does, to tell a student's comment from the
     6: r"\bdt\b",
     7: r"\b(body_angular_momentum|body_angular_velocity)\s*\[\s*None\s*\]\s*[-+*/]?=(?!=)",
 }
+WRITES = {  # a code line that does TODO k's job (ends an earlier region when TODO k's marker is missing)
+    5: re.compile(r"^(body_cm_position|body_velocity)\s*\[\s*None\s*\]\s*[-+*/]?=(?!=)"),
+    6: re.compile(r"^body_rotation_quaternion\s*\[\s*None\s*\]\s*[-+*/]?=(?!=)"),
+    7: re.compile(r"^(body_angular_momentum|body_angular_velocity)\s*\[\s*None\s*\]\s*[-+*/]?=(?!=)"),
+}
+ANCHORS = {  # given code that follows each TODO in the handout (a code line no more indented than the marker)
+    1: re.compile(r"^(body_origin_inverse_inertia|body_angular_momentum|body_velocity)\s*\[|^body_force\s*=(?!=)"
+                  r"|^body_torque\s*=(?!=)"),
+    2: re.compile(r"^if\s+particle_vertices\s*\[|^body_force\s*=(?!=)|^body_torque\s*=(?!=)"),
+    3: re.compile(r"^body_torque\s*=(?!=)"),
+    6: re.compile(r"^body_rotation\s*\[\s*None\s*\]\s*=(?!=)"),
+    7: re.compile(r"^for\b.*\bparticle_vertices\b|^particle_vertices\s*\["),
+}
+NORMALISE = re.compile(r"^body_rotation_quaternion\s*\[\s*None\s*\]\s*(/=|=).*\b(norm|normalized)\s*\(")
 DEF = re.compile(r"^(?P<indent>[ \t]*)def\s+(?P<name>[A-Za-z_]\w*)\s*\(")
 FOR = re.compile(r"^\s*for\s+(?P<var>[A-Za-z_]\w*)\s+in\b.*:\s*(#.*)?$")
 ASSIGN = re.compile(r"^\s*(?P<name>[A-Za-z_]\w*)\s*(?P<op>\+?=)(?!=)")
@@ -62,7 +99,9 @@ class Region:
     loop_header: str | None = None
     loop_context: list = field(default_factory=list)  # given lines of that loop's body before the TODO
     context: list = field(default_factory=list)  # given 'name = ...' lines before it at its own level
+    outer: list = field(default_factory=list)  # given 'name = ...' lines before its loop, at the loop's level
     shared: str | None = None  # TODOs 1, 3, 4: the local handed on
+    marker_text: str = ""  # the marker line as the student wrote it
 
     def code(self, lines) -> list:
         return lines[self.start:self.end]
@@ -75,27 +114,55 @@ class RegionError(Exception):
     """The file's TODO markers cannot be read; the message is for the student."""
 
 
-def find_regions(text: str) -> tuple:
-    """({k: Region} of the TODOs found, {k: why TODO k cannot be located}); RegionError if none is usable."""
-    lines = text.splitlines()
-    cont = continuation_lines(text)
-    functions = _functions(lines, cont)
-    markers, problems = {}, {}
+def _title_score(k: int, title: str) -> int:
+    words = set(re.findall(r"[a-z]+", TITLES[k].lower()))
+    return len(words & set(re.findall(r"[a-z]+", title.lower())))
+
+
+def find_markers(lines) -> tuple:
+    """({k: line index of its marker}, {k: why it cannot be used}, [notes])."""
+    found = {}
     for i, line in enumerate(lines):
         m = MARKER.match(line)  # continuation lines are not skipped: an unclosed bracket must not hide them
         if m:
-            k = int(m["k"])
-            if k in markers:
-                problems[k] = (f"'# TODO {k}' appears twice (lines {markers[k] + 1} and {i + 1}); keep one "
-                               f"marker per TODO")
-            markers.setdefault(k, i)
+            found.setdefault(int(m["k"]), []).append((i, m["title"]))
+    markers, problems, notes = {}, {}, []
+    for k, candidates in found.items():
+        if len(candidates) == 1:
+            markers[k] = candidates[0][0]
+            continue
+        scores = [_title_score(k, title) for _, title in candidates]
+        best = max(scores)
+        if scores.count(best) > 1:
+            where = " and ".join(str(i + 1) for i, _ in candidates)
+            problems[k] = f"'# TODO {k}' appears {len(candidates)} times (lines {where}); keep one marker per TODO"
+            continue
+        markers[k] = candidates[scores.index(best)][0]
+        others = ", ".join(str(i + 1) for i, _ in candidates if i != markers[k])
+        notes.append(f"TODO {k}: the marker at line {markers[k] + 1} was used (its title matches the handout's); "
+                     f"the comment at line {others} also reads as a TODO {k} marker")
     for k in range(1, 8):
-        if k not in markers:
-            problems[k] = f"no '# TODO {k}:' line; keep the handout's TODO comments"
+        if k not in markers and k not in problems:
+            problems[k] = (f"no '# TODO {k}:' line; expected '# TODO {k}: {TITLES[k]}' {EXPECTED[k]} "
+                           f"(keep the handout's TODO comments)")
+    return markers, problems, notes
+
+
+def find_regions(text: str) -> tuple:
+    """({k: Region} of the TODOs found, {k: why TODO k cannot be located}); RegionError if none is usable."""
+    regions, problems, _notes = find_regions_with_notes(text)
+    return regions, problems
+
+
+def find_regions_with_notes(text: str) -> tuple:
+    lines = text.splitlines()
+    cont = continuation_lines(text)
+    functions = _functions(lines, cont)
+    markers, problems, notes = find_markers(lines)
     regions = {}
     for k, i in markers.items():
         try:
-            regions[k] = _region(k, i, lines, functions, cont)
+            regions[k] = _region(k, i, lines, functions, cont, set(markers))
         except RegionError as err:
             problems[k] = str(err)
     regions = {k: r for k, r in regions.items() if k not in problems}
@@ -107,7 +174,7 @@ def find_regions(text: str) -> tuple:
     for k in (1, 3, 4):
         if k in regions:
             regions[k].shared = _shared_name(regions[k], lines)
-    return regions, problems
+    return regions, problems, notes
 
 
 def _functions(lines, cont) -> list:
@@ -131,14 +198,15 @@ def _functions(lines, cont) -> list:
     return out
 
 
-def _region(k, marker, lines, functions, cont) -> Region:
+def _region(k, marker, lines, functions, cont, present) -> Region:
     around = [f for f in functions if f[0] <= marker < f[1]]
     if not around:
-        raise RegionError(f"'# TODO {k}' (line {marker + 1}) is not inside a kernel")
+        raise RegionError(f"'# TODO {k}' (line {marker + 1}) is not inside a kernel; expected it {EXPECTED[k]}")
     first, last, name = max(around, key=lambda f: f[0])  # the innermost
     indent = MARKER.match(lines[marker])["indent"]
     level = indent_of(lines[marker])
-    end = len(lines)
+    later_missing = [WRITES[j] for j in WRITES if j > k and j not in present]
+    end, updated = len(lines), False
     for j in range(marker + 1, len(lines)):
         text = lines[j].strip()
         if MARKER.match(lines[j]) or END_MARKER.match(lines[j]):
@@ -146,15 +214,24 @@ def _region(k, marker, lines, functions, cont) -> Region:
             break
         if not text or j in cont:
             continue
+        if text.startswith("#"):
+            if (indent_of(lines[j]) <= level and _starts_given_code(text)
+                    and not _does_the_job(k, lines, j, level, cont)):
+                end = j
+                break
+            continue
         if indent_of(lines[j]) < level:
             end = j
             break
-        if indent_of(lines[j]) == level and _starts_given_code(k, text) and not _does_the_job(k, lines, j, level, cont):
+        if indent_of(lines[j]) == level and (
+                (k in ANCHORS and ANCHORS[k].match(text)) or any(w.match(text) for w in later_missing)
+                or (k == 6 and updated and NORMALISE.match(text))):
             end = j
             break
-    while end > marker + 1 and not lines[end - 1].strip():
+        updated = updated or bool(k == 6 and WRITES[6].match(text))
+    while end > marker + 1 and (not lines[end - 1].strip() or lines[end - 1].strip().startswith("#")):
         end -= 1
-    return Region(k, marker, marker + 1, end, indent, name, (first, last))
+    return Region(k, marker, marker + 1, end, indent, name, (first, last), marker_text=lines[marker].strip())
 
 
 def _does_the_job(k, lines, start, level, cont) -> bool:
@@ -165,24 +242,25 @@ def _does_the_job(k, lines, start, level, cont) -> bool:
         text = lines[j].strip()
         if not text:
             continue
-        if j not in cont and (indent_of(lines[j]) < level or MARKER.match(lines[j])
-                              or (text.startswith("#") and indent_of(lines[j]) == level)):
+        if MARKER.match(lines[j]) or (j not in cont and not text.startswith("#") and indent_of(lines[j]) < level):
             break
-        if not text.startswith("#"):
-            code.append(text)
+        if text.startswith("#"):
+            if indent_of(lines[j]) <= level and _starts_given_code(text):
+                break
+            continue
+        code.append(text)
     return bool(re.search(JOB[k], "\n".join(code)))
 
 
-def _starts_given_code(k, text) -> bool:
-    if text.startswith("#"):
-        word = text.lstrip("#").strip().lower()
-        return word.startswith(GIVEN_WORDS)
-    return any(re.match(rf"{f}\s*\[", text) for f in GIVEN_AFTER.get(k, ()))
+def _starts_given_code(text) -> bool:
+    word = text.lstrip("#").strip().lower()
+    return word.startswith(GIVEN_WORDS)
 
 
 def _loop_and_context(region, lines, cont, student) -> None:
-    """The innermost enclosing for loop (header, its body's given lines before the TODO) and the given
-    ``name = ...`` lines before the TODO at its own level. Lines of TODO regions are never context."""
+    """The innermost enclosing for loop (header, its body's given lines before the TODO, the given
+    ``name = ...`` lines before it at its level) and the given ``name = ...`` lines before the TODO at its
+    own level. Lines of TODO regions are never context."""
     level = indent_of(lines[region.marker])
     first = region.kernel_lines[0]
     header = None
@@ -198,6 +276,10 @@ def _loop_and_context(region, lines, cont, student) -> None:
         region.loop_header = lines[header].strip()
         region.loop_var = FOR.match(lines[header])["var"]
         region.loop_context = _statements(lines, header + 1, region.marker, cont, student)
+        outer_level = indent_of(lines[header])
+        outer_start = _block_start(lines, header, first, outer_level, cont | student)
+        region.outer = [line for line in _statements(lines, outer_start, header, cont, student)
+                        if indent_of(line) == outer_level and ASSIGN.match(line) and ASSIGN.match(line)["op"] == "="]
     block_start = header + 1 if header is not None else _block_start(lines, region.marker, first, level,
                                                                      cont | student)
     region.context = [line for line in _statements(lines, block_start, region.marker, cont, student)
@@ -205,7 +287,7 @@ def _loop_and_context(region, lines, cont, student) -> None:
 
 
 def _block_start(lines, marker, first, level, skip) -> int:
-    """First line of the block the TODO line sits in."""
+    """First line of the block the line ``marker`` sits in."""
     for j in range(marker - 1, first, -1):
         text = lines[j].strip()
         if text and not text.startswith("#") and j not in skip and indent_of(lines[j]) < level:
@@ -232,14 +314,17 @@ def _shared_name(region, lines) -> str:
     """The local variable TODO 1, 3 or 4 hands on to the code after it."""
     first, last = region.kernel_lines
     after = set(IDENT.findall("\n".join(lines[region.end:last])))
-    given = [ASSIGN.match(line)["name"] for line in region.context]
-    given = [n for n in given if n in after]
+    inside = set(IDENT.findall("\n".join(line.split("#")[0] for line in region.code(lines))))
+    given = [ASSIGN.match(line)["name"] for line in region.outer + region.context]
+    given = [n for n in given if n in after or n in inside]
     level = indent_of(lines[region.marker])
     assigned = []
     for line in region.code(lines):
         m = ASSIGN.match(line)
         if m and (m["op"] == "+=" or indent_of(line) == level) and m["name"] not in assigned:
             assigned.append(m["name"])
+    if SHARED[region.k] in given and (SHARED[region.k] in assigned or SHARED[region.k] in after):
+        return SHARED[region.k]
     if given and (given[-1] in assigned or not [n for n in assigned if n in after]):
         return given[-1]
     own = [n for n in assigned if n in after]
