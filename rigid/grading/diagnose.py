@@ -11,7 +11,7 @@ right magnitude but wrong direction, wrong components).
 """
 import numpy as np
 
-from .mistakes import MISTAKES, col, mv, unit
+from .mistakes import MISTAKES, col, mm, mv, tr, unit
 
 RTOL = 1e-5
 COMPONENTS = {3: "xyz", 4: ("s", "x", "y", "z")}
@@ -68,6 +68,8 @@ def _follows_from_other_outputs(todo, name, out, d, sub) -> str:
             return "= I⁻¹ L is right for your I⁻¹ and L; fix those"
         if "I_inv" in sub and close(out, mv(sub["I_inv"], d["L"])):
             return "uses the old L; compute ω = I⁻¹ L with the updated L"
+        if "I_inv" not in sub and close(out, mv(mm(mm(d["R"], d["I0_inv"]), tr(d["R"])), sub["L_new"])):
+            return "= I⁻¹ L is right for your new L; fix L"
     if todo == 5 and name == "x_new":
         if close(out, d["x"] + col(d["dt"]) * sub["P_new"] / col(d["M"])):
             return "is right for your new P (velocity-first order); fix P"
@@ -91,7 +93,18 @@ def _generic(name, out, ref, d, old) -> str:
     wrong = np.max(np.abs(out - ref), axis=0) > RTOL * scale_of(ref)
     if not wrong.all():
         return f"is wrong in {_which(wrong)} (the rest is right)"
-    return f"differs from the expected value (largest relative difference {error(out, ref):.2g})"
+    return (f"differs from the expected value in every component (largest relative difference "
+            f"{error(out, ref):.2g}; first call: {_show(out[0])} where {_show(ref[0])} is expected)")
+
+
+def _show(value) -> str:
+    """A vector or matrix of one call, to 3 significant digits."""
+    value = np.asarray(value)
+    if value.ndim == 0:
+        return f"{float(value):.3g}"
+    if value.ndim == 1:
+        return "(" + ", ".join(f"{v:.3g}" for v in value) + ")"
+    return "[" + "; ".join(" ".join(f"{v:.3g}" for v in row) for row in value) + "]"
 
 
 def _factor(s, r, d, update: bool) -> str:

@@ -13,11 +13,15 @@ applied, a file without a window loop, ti.init called twice) go as
 import ast
 from pathlib import Path
 
+import re
+
+import numpy as np
+
 from ..checks import judge
-from . import harness
+from . import given, harness
 from .attribution import Attribution, check_simulations
 from .regions import RegionError
-from .runner import describe, run
+from .runner import COLUMNS, FRAMES, describe, run
 from .variants import FileModel
 
 
@@ -56,6 +60,9 @@ def grade(events, path, expected, todos, per_todo=False, renames=None):
     except RegionError as err:
         events.emit(event="import_failed", message=str(err))
         return
+    for note in model.notes + [given.note(model.text, model.regions)]:
+        if note:
+            events.emit(event="note", message=note)
     init_taichi()
     folder = path.parent / "_grader"
     folder.mkdir(exist_ok=True)
@@ -88,6 +95,34 @@ def grade(events, path, expected, todos, per_todo=False, renames=None):
     form = results.get(5, {}).get("form", "position-first")
     attribution = Attribution(model, folder, form, sets, first.rows if form == "position-first" else None)
     check_simulations(events, attribution, results, per_todo)
+    if model.bonus and set(todos) == set(range(1, 8)):  # once per file: the first child grades all seven
+        events.emit(phase="bonus")  # every TODO is decided: a hang here costs nothing (grade_submission.py)
+        events.emit(event="note", message=bonus_note(model, folder))
+
+
+def bonus_note(model, folder) -> str:
+    """What the file's bonus terms did: the file as it is, with its bonus parameters and without."""
+    names = ", ".join(f"{name} = {value:g}" for name, value in model.bonus.items())
+    lines = model.text.splitlines()
+    where = []
+    for i, line in enumerate(lines):
+        code = line.split("#")[0]
+        if any(re.search(rf"\b{re.escape(n)}\b", code) for n in model.bonus) and not re.match(
+                rf"^({'|'.join(map(re.escape, model.bonus))})\s*=(?!=)", line):
+            todo = next((k for k, r in model.regions.items() if r.start <= i < r.end), None)
+            where.append(f"{i + 1}" + (f" (TODO {todo})" if todo else ""))
+    head = (f"bonus terms: the TODOs were graded with the file's bonus parameters set to 0 ({names}; the slides' "
+            f"model has no damping or friction), so they cost no TODO; read at line{'s' if len(where) > 1 else ''} "
+            f"{', '.join(where)}")
+    runs = [run(model.build(range(1, 8), keep_bonus=keep), folder / f"bonus_{int(keep)}.py") for keep in (True, False)]
+    if runs[0].rows is None:
+        return f"{head}; with the file's own values the file fails when run: {runs[0].error}"
+    if runs[1].rows is None or not np.all(np.isfinite(runs[0].rows)):
+        return f"{head}; with the file's own values the simulation is not finite"
+    (v1, w1), (v0, w0) = [(float(np.linalg.norm(r.rows[-1, COLUMNS["body_velocity"]])),
+                           float(np.linalg.norm(r.rows[-1, COLUMNS["body_angular_velocity"]]))) for r in runs]
+    return (f"{head}; with the file's values, after {FRAMES} frames the body moves at {v1:.3g} m/s and spins at "
+            f"{w1:.3g} rad/s, against {v0:.3g} m/s and {w0:.3g} rad/s without them")
 
 
 def _syntax_error(model, k) -> str:

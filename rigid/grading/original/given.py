@@ -14,8 +14,8 @@ not given lines: what the student changed in the given code (friction in the
 wall branches, ``substeps = int(1 / 120 // dt)``, ``ti.init(debug=False)``, a
 smaller window). The grader keeps them in every version it compares, so they
 cost nothing; they are reported as a note. Assignments of the handout's
-parameters (``particle_mass = 0.5``, ``file_path = "bunny.obj"``) are the
-student's choice and not listed.
+parameters (``particle_mass = 0.5``, ``file_path = "bunny.obj"``) and of bonus
+parameters (BONUS: ``air_drag = 0.02``) are the student's choice and not listed.
 """
 import hashlib
 import re
@@ -79,15 +79,23 @@ def hashes_of(text: str, regions: dict) -> frozenset:
     return frozenset(fingerprint(line) for _, line in code_lines(text, regions))
 
 
+BONUS = re.compile(r"damp|fric|drag|viscos|restitution|resist", re.IGNORECASE)  # names of bonus parameters
+
+
 def _is_parameter(line: str) -> bool:
-    return any(re.match(rf"^{re.escape(name)}\s*=(?!=)", line.strip()) for name in PARAMETERS)
+    text = line.strip()
+    if line[:1].isspace():
+        return False
+    m = re.match(r"^([A-Za-z_]\w*)\s*=(?!=)", text)
+    return bool(m and BONUS.search(m[1])) or any(re.match(rf"^{re.escape(name)}\s*=(?!=)", text)
+                                                 for name in PARAMETERS)
 
 
 def edits(text: str, regions: dict) -> tuple:
     """([(line number, line) of edited or added given code], number of the handout's given lines not found)."""
     known = HASHES | HASHES_2023
     lines = code_lines(text, regions)
-    found = {fingerprint(line) for _, line in lines}
+    found = {fingerprint(line) for line in text.splitlines()}
     changed = [(n, line.strip()) for n, line in lines
                if fingerprint(line) not in known and not _is_parameter(line)]
     missing = len({h for h in HASHES if h not in found})

@@ -10,15 +10,28 @@ lines (reference.py) in the other regions; every line outside the regions
 student's. ``params`` replaces the module-level assignments of those parameters
 (``particle_mass = 1`` -> ``particle_mass = 0.7``), ``extra`` is inserted after
 the last kernel holding a TODO (the harness kernels), and the file's quoted
-paths in ``renames`` are rewritten (a mesh path the sandbox cannot offer). A
-version remembers, for each of its lines, the line of the student's file it
+paths in ``renames`` are rewritten (a mesh path the sandbox cannot offer).
+
+Bonus terms (the policy): the TODOs are graded with the file's bonus
+parameters set to zero, as the slides' model has no damping or friction:
+every module-level number whose name reads as one (given.BONUS: damping,
+friction, drag, ...; the handout declares ``velocity_damping_stiffness`` and
+``friction_stiffness`` and never uses them) and that the file's code reads
+is 0 in every version built (``bonus`` lists them), so a damping term inside
+TODO 2 or 5, or added to ``body_force`` after TODO 4's loop, costs no TODO.
+``build(..., keep_bonus=True)`` keeps the file's values, for the note on what
+the bonus terms did. A bonus term written with a bare number
+(``body_velocity[None] *= 0.99``) cannot be told from the TODO's physics and
+is graded with it. A version remembers, for each of its lines, the line of the student's file it
 came from, so errors name the student's lines.
 """
 import ast
+import re
 from dataclasses import dataclass
 
+from .given import BONUS
 from .reference import lines_for
-from .regions import RegionError, find_regions
+from .regions import RegionError, find_regions_with_notes
 
 PERTURBED = {  # other parameters than the handout's: a missing mass factor or Δt cannot hide, and it spins
     "particle_mass": (0.7, 1.3),  # the first that differs from the file's own value
@@ -42,7 +55,7 @@ class FileModel:
     def __init__(self, text: str, renames: dict | None = None):
         self.text, self.renames = text, renames or {}
         self.lines = [line if line.endswith("\n") else line + "\n" for line in text.splitlines(keepends=True)]
-        self.regions, self.problems = find_regions(text)
+        self.regions, self.problems, self.notes = find_regions_with_notes(text)
         self.shared = {k: self.regions[k].shared if k in self.regions else None for k in (1, 3, 4)}
         reference = self.build()
         try:
@@ -59,9 +72,16 @@ class FileModel:
                     indent = self.lines[first - 1][:node.col_offset]
                     self.assignments[node.targets[0].id] = (first - 1, last, indent,
                                                             ast.get_source_segment(reference.text, node.value))
+        code = "\n".join(line.split("#")[0] for line in text.splitlines())  # the student's TODOs too
+        read = {name for name in self.assignments if len(re.findall(rf"(?<![.\w]){name}\b", code)) > 1}
+        self.bonus = {name: value for name, a in self.assignments.items()
+                      if BONUS.search(name) and name in read and (value := _literal(a[3])) not in (None, 0.0)
+                      and isinstance(value, float)}
 
     def build(self, student=(), form: str = "position-first", params: dict | None = None,
-              extra: list | None = None) -> Variant:
+              extra: list | None = None, keep_bonus: bool = False) -> Variant:
+        if not keep_bonus and getattr(self, "bonus", None):
+            params = {**{name: 0.0 for name in self.bonus}, **(params or {})}
         splices = []  # (start, end, new lines)
         for k, region in self.regions.items():
             if k not in student:
