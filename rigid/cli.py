@@ -9,7 +9,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from .config import SimConfig, load_scene
+from .config import MAX_GRID, SimConfig, load_scene
 from .errors import UserError
 
 HEADLESS_FRAMES = 300  # --headless without --frames: 5 simulated seconds
@@ -49,7 +49,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="no floor and no walls: free flight")
     g.add_argument("--particles", choices=("vertex", "volume"),
                    help="particles at the mesh vertices (default) or filling its volume")
-    g.add_argument("--grid", type=int, metavar="N", help=f"volume sampling: cells along the longest side (default {d.grid})")
+    g.add_argument("--grid", type=int, metavar="N", help=f"volume sampling: cells along the longest side, 2 to {MAX_GRID} (default {d.grid})")
     g.add_argument("--count", type=int, metavar="N", help="N copies of the body, dropped in a lattice above "
                    "--position, colliding with each other (default 1)")
     g.add_argument("--orientation", nargs=4, type=float, metavar=("W", "X", "Y", "Z"),
@@ -115,6 +115,11 @@ def _run(args, units) -> int:
     from .run.atomic import check_output_path
 
     config = config_from_args(args)
+    from .run.precision import float32_problem
+
+    problem = float32_problem(config)
+    if problem:
+        raise UserError(problem)
     if args.export:
         from .run.exports import check_exports
         check_exports(args.export)

@@ -26,6 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import UserError
+from .budget import check_fits, simulation_bytes
 from .group import entry_geometries, group_centre
 from .mesh import BodyGeometry
 from .quaternion import quaternion_to_matrix_np
@@ -60,6 +61,7 @@ def scene_bodies(config) -> list[BodySpec]:
     meshes or placements. A file of several meshes is a group placed as one (rigid.bodies.group)."""
     cache: dict = {}
     bodies: list[BodySpec] = []
+    particles = 0  # so far, copies included: checked against the free memory before copies are made
     for entry in range(config.num_body_entries):
         body = config.body_config(entry)
         key = (body.mesh, body.scale, body.particles, body.grid)
@@ -75,6 +77,12 @@ def scene_bodies(config) -> list[BodySpec]:
                               np.asarray(body.initial_velocity, float),
                               np.asarray(body.initial_angular_velocity, float)) for part, geometry in parts]
         template = templates[0]
+        per_copy = sum(len(t.geometry.particles) for t in templates)
+        particles += per_copy * body.count
+        check_fits(simulation_bytes(particles, config.many_bodies),
+                   f"count = {body.count}: {body.count:,} copies of {per_copy:,} particles make {particles:,}"
+                   if body.count > 1 else f"the scene has {particles:,} particles",
+                   "use a smaller --count" + (" or --grid" if body.particles == "volume" else ""))
         if len(parts) == 1:
             reach = template.reach
         else:

@@ -27,12 +27,13 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import UserError
+from .budget import SAMPLING_BYTES_PER_CELL, SAMPLING_BYTES_PER_PARTICLE, check_fits, simulation_bytes
 
 # Ray offsets in units of h, tried in turn for columns whose ray grazed an edge: tiny, so
 # only centres within ~1e-7 h of the surface can be classified by the moved ray, yet far
 # above round-off (1e-16 h), and irrational-looking, so no mesh edge lies on them.
 RAY_OFFSETS = ((1.23457e-7, 0.98765e-7), (-2.71828e-6, 3.14159e-6), (4.14214e-5, -1.73205e-5))
-MAX_CELLS = 2 ** 27  # 512³: beyond this the particles alone take gigabytes
+MAX_CELLS = 2 ** 27  # 512³, --grid 512's most (rigid.bodies.budget estimates the memory before)
 MAX_PAIRS = 4_000_000  # (triangle, column) candidates per chunk: bounds the memory to ~0.5 GB
 
 
@@ -50,6 +51,11 @@ def sample_volume(vertices: np.ndarray, faces: np.ndarray, grid: int) -> np.ndar
     if int(np.prod(counts)) > MAX_CELLS:
         raise UserError(f"--grid {grid} makes a {counts[0]}x{counts[1]}x{counts[2]} grid, more than "
                         f"{MAX_CELLS:.3g} cells (gigabytes of particles); use a smaller --grid, e.g. 128")
+    estimate = expected_particles(vertices, faces, h)
+    need = (SAMPLING_BYTES_PER_CELL * float(np.prod(counts)) + SAMPLING_BYTES_PER_PARTICLE * estimate
+            + simulation_bytes(estimate, False))
+    check_fits(need, f"grid = {grid} fills the mesh with about {estimate:,.0f} particles",
+               "use a smaller --grid, e.g. " + str(max(2, grid // 2)))
     origin = (lo + hi) / 2 - counts * h / 2  # the grid's corner; cell (i, j, k) centre = origin + (i+½, j+½, k+½) h
     triangles = vertices[faces]  # (F, 3 corners, 3)
     inside = _inside_cells(triangles, origin, h, counts)
@@ -59,6 +65,13 @@ def sample_volume(vertices: np.ndarray, faces: np.ndarray, grid: int) -> np.ndar
         raise UserError(f"no cell of the {counts[0]}x{counts[1]}x{counts[2]} grid has its centre inside "
                         f"the mesh; use a finer --grid (now {grid})")
     return particles
+
+
+def expected_particles(vertices: np.ndarray, faces: np.ndarray, h: float) -> float:
+    """About how many cells of side h a closed mesh holds: its volume (the divergence theorem's
+    sum over the triangles) / h³; within 3 % of the count at --grid 64 for assets/*.obj."""
+    a, b, c = (vertices[faces[:, i]] for i in range(3))
+    return abs(float(np.einsum("ij,ij->", a, np.cross(b, c)))) / 6.0 / h ** 3
 
 
 def check_closed(vertices: np.ndarray, faces: np.ndarray) -> None:

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 from .diagnostics import Trajectory, first_blow_up, stability_hint
 from .exports import write_exports
+from .progress import TimeLeft
 
 
 def energy_bound(mass: float, gravity, kinetic0: float) -> float:
@@ -65,6 +66,7 @@ def run_frames(sim, frames: int | None, export_path=None, on_frame=None) -> RunR
     result = RunResult(0, "done")
     last = _row(start, 0)
     chunk = _ChunkSize(sim.rows.capacity if on_frame is None else 1)
+    eta = TimeLeft(frames) if on_frame is None and frames is not None else None
     try:
         with _sigint_between_chunks(on_frame is None) as interrupted:
             if on_frame is not None and on_frame(sim, 0):
@@ -76,6 +78,8 @@ def run_frames(sim, frames: int | None, export_path=None, on_frame=None) -> RunR
                 began = time.perf_counter()
                 block = sim.advance_frames(size)
                 chunk.took(time.perf_counter() - began)
+                if eta is not None:  # one line on stderr once the run looks long: its time left
+                    eta.chunk_done(result.frames + size, size, time.perf_counter() - began)
                 bad = first_blow_up(block, e0, bound)
                 if bad is not None:
                     index, problem = bad

@@ -1,0 +1,130 @@
+"""Runs that would go wrong quietly or not fit (issue 21): a Δt too small for float32, more
+particles than the memory holds, the time a long run has left, a body leaving the box.
+The README's bad-input table holds the command-line rows (tests/test_bad_input.py)."""
+import numpy as np
+import pytest
+
+from conftest import ASSETS, ROOT
+
+
+# --- Δt against float32's resolution (rigid.run.precision) ---------------------------------------
+
+def test_float32_refuses_a_tiny_dt_and_names_fp64():
+    from rigid.config import SimConfig
+    from rigid.run.precision import float32_problem
+
+    line = float32_problem(SimConfig(dt=1e-9).validate())
+    assert line.startswith("dt = 1e-09 is too small for float32") and "--fp64" in line
+    assert float32_problem(SimConfig(dt=1e-9, fp64=True).validate()) is None
+    # The --dt it suggests passes, and a little less does not.
+    suggested = float(line.rsplit("--dt ", 1)[1].split()[0])
+    assert float32_problem(SimConfig(dt=suggested).validate()) is None
+    assert float32_problem(SimConfig(dt=0.9 * suggested).validate()) is not None
+    assert 1e-7 < suggested < 1e-6  # where float32's error reaches millimetres (precision.py)
+
+
+def test_float32_spin_alone_counts():
+    """Free flight without gravity: the quaternion's increment Δt·|ω|/2 against float32's spacing."""
+    from rigid.config import SimConfig
+    from rigid.run.precision import float32_problem
+
+    cfg = SimConfig(dt=1e-8, gravity=(0, 0, 0), walls=False, initial_angular_velocity=(0, 8, 0)).validate()
+    assert "quaternion" in float32_problem(cfg) or "moves the body" in float32_problem(cfg)
+    assert float32_problem(cfg.replace(initial_angular_velocity=(0, 0, 0))) is None  # nothing moves
+
+
+@pytest.mark.parametrize("scene", sorted((ASSETS / "scenes").glob("*.toml")), ids=lambda p: p.stem)
+def test_float32_passes_every_shipped_scene(scene):
+    from rigid.config import SimConfig, load_scene
+    from rigid.run.precision import float32_problem
+
+    assert float32_problem(SimConfig(**load_scene(scene)).validate()) is None
+    assert float32_problem(SimConfig(**{**load_scene(scene), "dt": 1e-5}).validate()) is None  # convergence studies
+
+
+# --- memory (rigid.bodies.budget) ------------------------------------------------------------------
+
+def test_volume_estimate_matches_the_sampled_count():
+    from rigid.bodies.mesh import read_mesh
+    from rigid.bodies.sampling import expected_particles, sample_volume
+
+    for name in ("sphere", "torus", "box"):
+        mesh = read_mesh(ASSETS / f"{name}.obj")
+        h = float(np.ptp(mesh.vertices, axis=0).max()) / 64
+        count = len(sample_volume(mesh.vertices, mesh.faces, 64))
+        assert abs(expected_particles(mesh.vertices, mesh.faces, h) / count - 1) < 0.03, name
+
+
+def test_sampling_refuses_before_filling_what_the_memory_cannot_hold(monkeypatch):
+    from rigid.bodies import budget
+    from rigid.bodies.mesh import read_mesh
+    from rigid.bodies.sampling import sample_volume
+    from rigid.errors import UserError
+
+    mesh = read_mesh(ASSETS / "sphere.obj")
+    monkeypatch.setattr(budget, "available_bytes", lambda: 220e6)
+    sample_volume(mesh.vertices, mesh.faces, 16)  # 1,880 particles fit
+    with pytest.raises(UserError) as err:
+        sample_volume(mesh.vertices, mesh.faces, 128)  # ~960,000 particles: ~200 MB + 0.3 GB do not
+    assert str(err.value).startswith("grid = 128 fills the mesh with about 9")
+    assert "of memory, more than the 220 MB free here; use a smaller --grid, e.g. 64" in str(err.value)
+
+
+def test_copies_are_refused_before_they_are_made(monkeypatch):
+    from rigid.bodies import budget
+    from rigid.bodies.placement import scene_bodies
+    from rigid.config import SimConfig
+    from rigid.errors import UserError
+
+    monkeypatch.setattr(budget, "available_bytes", lambda: 250e6)
+    assert len(scene_bodies(SimConfig(count=8, scale=0.1).validate())) == 8
+    with pytest.raises(UserError, match=r"^count = 5000: 5,000 copies of 42 particles make 210,000: about"):
+        scene_bodies(SimConfig(count=5000, scale=0.03).validate())  # 200 MB + 210,000 x 320 B
+
+
+def test_free_memory_is_read_on_this_machine():
+    from rigid.bodies.budget import available_bytes
+
+    free = available_bytes()
+    assert free is None or free > 0
+
+
+def test_grid_limit_agrees_with_the_sampler():
+    """--grid's upper limit is the largest grid the sampler takes (a 1024 grid was accepted, then
+    refused with another message)."""
+    from rigid.bodies.sampling import MAX_CELLS
+    from rigid.config import MAX_GRID, SimConfig
+
+    assert MAX_GRID ** 3 <= MAX_CELLS < (MAX_GRID + 1) ** 3
+    SimConfig(particles="volume", grid=MAX_GRID).validate()
+    assert f"from 2 to {MAX_GRID}" in (ROOT / "README.md").read_text()
+
+
+# --- the time a long headless run has left (rigid.run.progress) -----------------------------------
+
+def test_time_left_says_nothing_for_a_short_run():
+    from rigid.run.progress import TimeLeft
+
+    eta = TimeLeft(300)
+    assert eta.chunk_done(1, 1, 1.5) is None  # compiling
+    assert all(eta.chunk_done(1 + k * 100, 100, 0.01) is None for k in range(1, 4))
+
+
+def test_time_left_speaks_once_with_the_measured_rate():
+    import io
+
+    from rigid.run.progress import TimeLeft
+
+    out = io.StringIO()
+    eta = TimeLeft(300, out=out)
+    assert eta.chunk_done(1, 1, 1.9) is None  # the first chunk compiles: under SAY_AFTER
+    line = eta.chunk_done(2, 1, 0.5)  # 0.5 s a frame measured, 298 frames left
+    assert line == "2 of 300 frames in 2.4 s: 0.5 s a frame, about 2 min to go (Ctrl-C stops and keeps what is done)"
+    assert eta.chunk_done(3, 1, 0.5) is None and out.getvalue() == line + "\n"
+
+
+def test_time_left_from_a_first_frame_alone_is_an_upper_bound():
+    from rigid.run.progress import TimeLeft
+
+    line = TimeLeft(10, out=open("/dev/null", "w")).chunk_done(1, 1, 120.0)
+    assert line.startswith("1 of 10 frames in 120 s: 120 s a frame (compiling included), at most 18 min to go")
