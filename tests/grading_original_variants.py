@@ -19,7 +19,7 @@ from pathlib import Path
 
 FOLDER = Path(__file__).resolve().parent / "data" / "original_handout"
 SOLVED = (FOLDER / "solved.py").read_text()
-FILES = ("solved", "unsolved")
+FILES = ("solved", "unsolved", "black_formatted")  # black_formatted: solved.py after black 26.10
 
 L1 = "        inertia += particle_mass * (r.dot(r) * ti.Matrix.identity(float, 3) - r.outer_product(r))\n"
 L2 = "        particle_force[i] = particle_mass * gravity\n"
@@ -138,7 +138,7 @@ WRONG = {
     "mistakes_a": {2: ["mass"], 4: ["cross product"], 6: ["twice the expected rate"]},
     "mistakes_b": {1: ["mass"], 3: ["sign"], 5: ["does not depend on Δt"], 7: ["order"]},
 }
-FULL = ("solved", "marker_variants", "layout", "bonus_inside", "given_edits", "bonus_friction")
+FULL = ("solved", "marker_variants", "layout", "black_formatted", "bonus_inside", "given_edits", "bonus_friction")
 NOTES = {
     "bonus_inside": ["bonus", "air_drag", "linear_damping", "velocity_damping_stiffness"],
     "given_edits": ["given code", "substeps"],

@@ -30,6 +30,7 @@ SUBSTITUTIONS = {
     "t3_drops_z": {L_TERM: "term = ti.Vector([particle_force[0], particle_force[1], 0.0])"},
     "t4_swapped_cross": {L_TORQUE: "term = particle_force.cross(r)"},
     "t4_unrotated": {L_R: "r = r0"},
+    "t4_syntax_error": {L_TORQUE: "term = r..cross(particle_force)"},  # not in WRONG: --check cannot import it
     "t5_no_dt": {L_X: "new_position = position + momentum / mass"},
     "t5_force_over_mass": {L_P: "new_momentum = momentum + dt * force / mass"},
     "t6_no_half": {L_DQ: L_DQ.replace("0.5 * ", "")},

@@ -7,10 +7,13 @@ variants score full marks, a print flood and writes to HOME cost nothing.
 Misbehaving batch (--timeout 10): a crash, a sys.exit, an endless loop at
 import, an endless loop inside TODO 6 and a memory hog each lose only their
 own points, within the time limit. Original batch: files in the course's
-original handout format (tests/data/original_handout/, detected as such):
-solved and bonus (other parameters, friction, a missing mesh) score 90/90,
-unsolved 0, mistakes lose exactly their TODOs with the same diagnoses, a zip
-brings its own mesh, an endless loop in TODO 6 costs TODO 6 only. All write JSON and CSV. The self-check (--check)
+original handout format (tests/data/original_handout/ in the real handout's
+shape, and grading_original_variants.py's variants of it, detected as such):
+solved, marker spellings, layout, black, bonus terms inside TODOs, edits of the
+given code and other parameters score 90/90 with their notes, unsolved 0, each
+one-TODO mistake (known or not), a lost marker and a syntax error lose exactly
+their TODO, a zip brings its own mesh, an endless loop in TODO 6 costs TODO 6
+only, and the batch summary is written beside the CSV. All write JSON and CSV. The self-check (--check)
 then runs on the main batch's files and must agree with grade.py on each.
 """
 import csv
@@ -31,7 +34,7 @@ from rigid.grading.handout import make_handout
 MISBEHAVING = ("crash_at_import", "exit_at_import", "hang_at_import", "hang_in_todo6", "memory_hog")
 TIMEOUT = 10  # a stage's limit; 5 s failed once in a fresh clone (cold kernel cache, two xdist workers):
 # hang_in_todo6's first stage, which compiles the whole file, ran out of time and the file scored 0
-ORIGINAL = ("solved", "unsolved", "bonus_friction", "mistakes_a", "hang_in_todo6")
+ORIGINAL = (*original.FULL, "unsolved", "hang_in_todo6", *(n for n in original.WRONG if n != "mistakes_b"))
 ORIGINAL_TIMEOUT = 10  # its first stage compiles and runs the whole file: more than 5 s on a busy machine
 
 
@@ -47,7 +50,7 @@ def batches(tmp_path_factory):
     main, bad, orig = base / "main", base / "bad", base / "original"
     for folder in (main, bad, orig):
         folder.mkdir()
-    for name in [*WRONG, "flood_and_writes"]:
+    for name in [*WRONG, "flood_and_writes", "t4_syntax_error"]:
         (main / f"{name}.py").write_text(make(name))
     (main / "solution.py").write_text(SOLUTION)
     (main / "handout.py").write_text(make_handout(SOLUTION))
@@ -72,7 +75,7 @@ def batches(tmp_path_factory):
     probe.unlink(missing_ok=True)
     start = time.monotonic()
     procs = {"main": _grade(main, main), "bad": _grade(bad, bad, "--timeout", str(TIMEOUT)),
-             "original": _grade(orig, orig, "--jobs", "1", "--timeout", str(ORIGINAL_TIMEOUT)),
+             "original": _grade(orig, orig, "--timeout", str(ORIGINAL_TIMEOUT)),
              "selfcheck": subprocess.Popen([sys.executable, str(ROOT / "tests" / "grading_selfcheck_worker.py"),
                                             str(base / "selfcheck.json"), *map(str, checked.values())],
                                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)}
@@ -111,6 +114,13 @@ def test_wrong_variant_loses_exactly_its_todo(batches, name):
     assert message.startswith(f"TODO {todo}:") and all(w in message for w in words), message
 
 
+def test_a_syntax_error_inside_one_todo_costs_that_todo_only(batches):
+    r = batches["result"]["main"]["t4_syntax_error"]
+    assert points(r) == {1: 15, 2: 10, 3: 10, 4: 0, 5: 10, 6: 15, 7: 15}, r["todos"]
+    assert "TODO 4: the code between '# TODO 4:' and '# END TODO 4' has a syntax error at line" in \
+        r["todos"]["4"]["message"]
+
+
 def test_correct_but_different_and_harmless_misbehaviour_score_full(batches):
     res = batches["result"]["main"]
     for name in ("bob_folder", "3035123456_alice_assignment3", "flood_and_writes"):
@@ -140,7 +150,7 @@ def test_misbehaving_submissions_lose_only_their_points_within_the_limit(batches
 def test_csv_has_a_row_per_submission_and_a_column_per_todo(batches):
     folder = batches["folders"]["main"]
     rows = list(csv.DictReader((folder / "grades.csv").open(encoding="utf-8")))
-    assert len(rows) == len(batches["result"]["main"]) == len(WRONG) + 5
+    assert len(rows) == len(batches["result"]["main"]) == len(WRONG) + 6
     assert list(rows[0]) == ["submission", "uid", "name", *(f"todo{k}" for k in range(1, 8)), "total",
                              "max_total", "feedback"]
     alice = next(r for r in rows if r["submission"].endswith(".zip"))
@@ -152,18 +162,34 @@ def test_csv_has_a_row_per_submission_and_a_column_per_todo(batches):
           f"{batches['elapsed']:.1f} s")
 
 
-def test_original_format_solved_bonus_full_unsolved_zero(batches):
+@pytest.mark.parametrize("name", original.FULL)
+def test_original_format_right_files_score_full_with_their_notes(batches, name):
+    r = batches["result"]["original"][name]
+    assert r["format"] == "original" and r["total"] == 90, (name, r["todos"])
+    for words in original.NOTES.get(name, []):
+        assert any(words in n for n in r["notes"]), (words, r["notes"])
+    if name not in original.NOTES:
+        assert r["notes"] == [], r["notes"]
+
+
+def test_original_format_unsolved_zero_and_the_details(batches):
     res = batches["result"]["original"]
-    assert all(r["format"] == "original" for r in res.values())
     assert all(r["format"] == "project" for r in batches["result"]["main"].values())
-    for name in ("solved", "bonus_friction"):
-        assert res[name]["total"] == 90, (name, res[name]["todos"])
     assert "agree with the reference lines" in res["solved"]["todos"]["4"]["message"]
-    assert "velocity-first" in res["bonus_friction"]["todos"]["5"]["message"]
-    (note,) = res["bonus_friction"]["notes"]  # it reads my_bunny.obj, which it does not include
-    assert "my_bunny.obj" in note and "sphere.obj" in note
+    assert "velocity-first" in res["solved"]["todos"]["5"]["message"]  # the 2023 hint's order
+    assert "position-first" in res["bonus_friction"]["todos"]["5"]["message"]
+    bonus = next(n for n in res["bonus_inside"]["notes"] if n.startswith("bonus terms"))
+    assert "(TODO 2)" in bonus and "(TODO 5)" in bonus and "set to 0" in bonus
     assert res["unsolved"]["total"] == 0
     assert all("not done" in t["message"] for t in res["unsolved"]["todos"].values())
+
+
+def test_batch_summary_beside_the_csv(batches):
+    text = (batches["folders"]["original"] / "grades.summary.txt").read_text(encoding="utf-8")
+    assert text.startswith(f"Batch summary: {len(batches['result']['original'])} submissions")
+    assert "Scores:" in text and "TODOs lost most often:" in text and "Not graded at all: 0" in text
+    assert "TODO 7 (update L, I⁻¹ and ω): lost by" in text and "x the new quaternion q changes at twice" in text
+    assert "Batch summary" in batches["stdout"]["original"]
 
 
 @pytest.mark.parametrize("name", sorted(original.WRONG))
@@ -176,7 +202,7 @@ def test_original_format_mistakes_lose_exactly_their_todos(batches, name):
         assert words is None or all(w in t["message"] for w in words), t["message"]
     if name == "mistakes_a":  # two ti.init calls and a ti.GUI loop that never checks gui.running
         assert any("ti.init 2 times" in n for n in r["notes"])
-    else:  # the zip brings the mesh it reads
+    elif name == "mistakes_b":  # the zip brings the mesh it reads
         assert r["notes"] == [] and r["student"] == {"uid": "3035000002", "name": "dan"}
     rows = list(csv.DictReader((batches["folders"]["original"] / "grades.csv").open(encoding="utf-8")))
     assert len(rows) == len(res) and any("note: " in row["feedback"] for row in rows)

@@ -101,3 +101,46 @@ def test_bad_markers_are_one_line_errors():
         make_handout(solution.replace("# END TODO 7", "# the end"))
     with pytest.raises(UserError, match="no '# TODO 6:'"):
         make_handout(solution.replace("# TODO 6:", "# TO DO 6:").replace("# END TODO 6", ""))
+
+
+def test_make_handout_creates_the_missing_folder(tmp_path):
+    out = tmp_path / "handout" / "deeper" / "rigid_body_dynamic.py"  # as the README writes it, in a fresh clone
+    proc = subprocess.run([sys.executable, str(ROOT / "scripts" / "make_handout.py"), str(out)],
+                          capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    assert out.is_file() and (out.parent / answers.FILE_NAME).is_file()
+
+
+def test_bundle_runs_check_in_a_fresh_venv(tmp_path):
+    """make_handout.py --bundle: unzipped in an empty folder, with a fresh venv (its packages from the
+    system's site-packages, none of this repository), the handout's --check runs and fails every TODO, and
+    the solution put in its place passes all seven with the bundle's own rigid/."""
+    import zipfile
+
+    out = tmp_path / "a3.zip"
+    proc = subprocess.run([sys.executable, str(ROOT / "scripts" / "make_handout.py"), "--bundle", str(out)],
+                          capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    with zipfile.ZipFile(out) as z:
+        names = z.namelist()
+        z.extractall(tmp_path / "student")
+    assert "a3/rigid_body_dynamic.py" in names and f"a3/{answers.FILE_NAME}" in names
+    assert "a3/requirements.txt" in names and "a3/assets/sphere.obj" in names
+    assert not any(n.startswith(("a3/rigid/grading/original/", "a3/rigid/bench/")) for n in names)
+    venv = tmp_path / "venv"
+    subprocess.run([sys.executable, "-m", "venv", "--system-site-packages", "--without-pip", str(venv)],
+                   check=True, timeout=120)
+    python = venv / "bin" / "python"
+    folder = tmp_path / "student" / "a3"
+    env = {"PATH": os.environ.get("PATH", "/usr/bin:/bin"), "HOME": str(tmp_path), "TI_SKIP_VERSION_CHECK": "ON"}
+    where = subprocess.run([str(python), "-c", "import rigid; print(rigid.__file__)"], cwd=folder, env=env,
+                           capture_output=True, text=True, timeout=60)
+    assert where.stdout.strip().startswith(str(folder)), where.stdout + where.stderr  # the bundle's rigid/
+    check = subprocess.run([str(python), "rigid_body_dynamic.py", "--check"], cwd=folder, env=env,
+                           capture_output=True, text=True, timeout=300)
+    assert check.returncode == 1, check.stderr
+    assert check.stdout.count("not done") == 7 and "0 of 7 TODOs pass" in check.stdout
+    shutil.copy(SOLUTION, folder / "rigid_body_dynamic.py")
+    solved = subprocess.run([str(python), "rigid_body_dynamic.py", "--check"], cwd=folder, env=env,
+                            capture_output=True, text=True, timeout=300)
+    assert solved.returncode == 0 and "All 7 TODOs pass" in solved.stdout, solved.stdout + solved.stderr

@@ -1,5 +1,7 @@
-"""The original handout format's pieces, without the sandbox: detection, TODO regions, versions of a
-file, meshes, the headless window. The end-to-end grading of such files is in test_grading_batch.py."""
+"""The original handout format's pieces, without the sandbox: detection, TODO regions (the handout's
+shape, marker spellings, layout, a lost marker, a syntax error), bonus parameters, edits of the given code,
+versions of a file, meshes, the headless window. The end-to-end grading of such files (every variant of
+grading_original_variants.py) is in test_grading_batch.py."""
 import pytest
 
 from conftest import ROOT, SOLUTION
@@ -9,7 +11,8 @@ from rigid.grading.handout import make_handout
 from rigid.grading.original import headless
 from rigid.grading.original.detect import detect
 from rigid.grading.original.meshes import plan
-from rigid.grading.original.regions import RegionError
+from rigid.grading.original import given
+from rigid.grading.original.regions import MARKER, RegionError
 from rigid.grading.original.variants import FileModel
 
 SPHERE = (ROOT / "assets" / "sphere.obj").read_bytes()
@@ -23,54 +26,123 @@ def code_of(model, k):
 def test_format_detected_per_file_and_forced_by_flag():
     solution = SOLUTION.read_text()
     assert detect(solution) == detect(make_handout(solution)) == "project"
-    for name in ("solved", "unsolved", "bonus_friction", "window_and_double_init", "mistakes_a"):
+    for name in ("solved", "unsolved", "bonus_friction", "mistakes_a", "marker_variants", "black_formatted"):
         assert detect(make(name)) == "original", name
     assert detect("print('hello')\n") == "project"  # graded as today: 'no function particle_inertia'
     assert build_parser().parse_args(["x", "--format", "original"]).format == "original"
     assert build_parser().parse_args(["x"]).format == "auto"
 
 
-def test_regions_hold_exactly_the_todo_code_and_name_the_shared_locals():
+SOLVED_CODE = {  # the code lines of each TODO in solved.py (the handout's shape)
+    1: ["for i in ti.grouped(particle_vertices):", "r = particle_vertices[i] - body_cm_position[None]",
+        "inertia += particle_mass * (r.dot(r) * ti.Matrix.identity(float, 3) - r.outer_product(r))"],
+    2: ["particle_force[i] = particle_mass * gravity"],
+    3: ["body_force += particle_force[i]"],
+    4: ["arm = particle_vertices[i] - body_cm_position[None]", "body_torque += ti.math.cross(arm, particle_force[i])"],
+    5: ["body_velocity[None] += dt * body_force / body_mass[None]", "body_cm_position[None] += dt * body_velocity[None]"],
+}
+
+
+def test_regions_of_the_handouts_shape_and_its_locals_declared_before_the_loops():
     model = FileModel(SOLVED)
-    assert not model.problems
-    assert code_of(model, 2) == ["particle_force[i] = particle_mass * gravity"]
-    assert code_of(model, 5) == ["body_cm_position[None] += dt * body_velocity[None]",
-                                 "body_velocity[None] += dt * body_force / body_mass[None]"]
-    assert code_of(model, 6)[-1].startswith("body_rotation_quaternion[None] += 0.5 * dt")  # not the normalising
-    assert model.regions[2].loop_var == "i" and model.regions[3].loop_var is None
+    assert not model.problems and model.bonus == {}  # the handout declares the bonus parameters, never reads them
+    for k, code in SOLVED_CODE.items():
+        assert code_of(model, k) == code, k
+    assert code_of(model, 6)[-1] == "body_rotation_quaternion[None] += dt * d_q"  # not the given normalising
+    assert code_of(model, 7)[-1] == "body_angular_velocity[None] = body_inverse_inertia @ body_angular_momentum[None]"
+    assert [model.regions[k].loop_var for k in range(1, 8)] == [None, "i", "i", "i", None, None, None]
+    assert model.regions[3].outer == ["    body_force = ti.Vector([0.0, 0.0, 0.0])"]  # declared before its loop
     assert model.shared == {1: "inertia", 3: "body_force", 4: "body_torque"}
-    bonus = FileModel(make("bonus_friction"))
-    assert bonus.shared[3] == "total_force"  # the student's own name, read by their TODO 5
-    assert not any("friction" in line for k in bonus.regions for line in code_of(bonus, k))  # bonus stays given
     unsolved = FileModel(make("unsolved"))
-    assert all(not r.has_code(unsolved.text.splitlines()) for r in unsolved.regions.values())
+    assert all(not r.has_code(unsolved.text.splitlines()) or code_of(unsolved, r.k) == ["pass"] or
+               code_of(unsolved, r.k)[-1] == "pass" for r in unsolved.regions.values())
+    assert unsolved.shared == model.shared
+    bonus = FileModel(make("bonus_friction"))
+    assert bonus.shared[3] == "total_force"  # the student's own name, declared before the loop, read by TODO 5
+    assert not any("friction" in line for k in bonus.regions for line in code_of(bonus, k))  # bonus stays given
 
 
-def test_a_students_comment_a_syntax_error_or_a_lost_marker_cost_only_their_todo():
-    text = SOLVED.replace("    body_cm_position[None] += dt * body_velocity[None]\n",
-                          "    # update the position with the old velocity\n"
-                          "    body_cm_position[None] += dt * body_velocity[None]\n")
-    text = text.replace("body_torque += arm.cross(particle_force[i])", "body_torque += arm.cross(particle_force[i]")
-    text = text.replace("    # TODO 3: compute the force for rigid body\n", "")
-    model = FileModel(text)
-    assert len(code_of(model, 5)) == 2  # its own '# update ...' comment did not end TODO 5
-    assert set(model.problems) == {3} and "no '# TODO 3:'" in model.problems[3]
-    assert code_of(model, 6) == code_of(FileModel(SOLVED), 6)  # the unclosed bracket in TODO 4 stays there
+def test_marker_spellings_and_a_moved_marker_are_read():
+    model = FileModel(make("marker_variants"))
+    assert not model.problems, model.problems
+    for k in (1, 2, 3, 5):
+        assert code_of(model, k) == SOLVED_CODE[k], k
+    assert code_of(model, 4)[:2] == ["body_torque = ti.Vector([0.0, 0.0, 0.0])",
+                                     "for i in ti.grouped(particle_vertices):"]  # moved above the given loop
+    assert model.regions[4].loop_var is None and model.shared[4] == "body_torque"
+    from rigid.grading.original.reference import lines_for
+    ref = "".join(lines_for(4, model.regions[4], model.shared))
+    assert ref.startswith("    body_torque = ti.Vector([0.0, 0.0, 0.0])\n    for ref_i in particle_vertices:")
+    for spelling in ("# TODO: 1: Compute", "#TODO 1", "# todo 1:", "## TODO(1)", "# TODO #1 -", "#  TODO  1."):
+        assert MARKER.match("    " + spelling)["k"] == "1", spelling
+    assert not MARKER.match("    # TODO 12: later") and not MARKER.match("    x = 1  # TODO 1")
+
+
+def test_layout_inside_a_region_never_ends_it_early():
+    model = FileModel(make("layout"))
+    assert code_of(model, 5) == SOLVED_CODE[5]  # across a comment at 3 spaces and blank lines
+    assert code_of(model, 4) == SOLVED_CODE[4]  # a comment at 6 spaces inside the 8-space loop
+    assert code_of(model, 7)[1].endswith("\\") and len(code_of(model, 7)) == 4  # the backslash's line stays
+    assert code_of(model, 1)[-1] == "pass"
+    black = FileModel(make("black_formatted"))
+    assert not black.problems and black.shared == FileModel(SOLVED).shared
+    assert code_of(black, 7)[1:6] == ["body_inverse_inertia = (", "body_rotation[None]",
+                                      "@ body_origin_inverse_inertia[None]", "@ body_rotation[None].transpose()", ")"]
+    assert given.note(black.text, black.regions) == ""  # black's reformatting is not an edit of the given code
+
+
+def test_a_lost_marker_or_a_syntax_error_cost_only_their_todo():
+    model = FileModel(make("missing_marker_3"))
+    assert set(model.problems) == {3}
+    assert "no '# TODO 3:' line; expected '# TODO 3: compute the force for rigid body'" in model.problems[3]
+    assert "after `body_force = ti.Vector([0.0, 0.0, 0.0])`" in model.problems[3]
+    assert code_of(model, 4) == SOLVED_CODE[4] and code_of(model, 2) == SOLVED_CODE[2]
+    broken = FileModel(make("syntax_error_todo4"))
+    assert not broken.problems and code_of(broken, 5) == SOLVED_CODE[5]
+    from rigid.grading.original.child import _syntax_error
+    assert "syntax error at line 184" in _syntax_error(broken, 4) and not _syntax_error(broken, 5)
+    text = SOLVED.replace(SOLVED_CODE[4][1], SOLVED_CODE[4][1][:-1])  # an unclosed bracket in TODO 4
+    assert code_of(FileModel(text), 5) == SOLVED_CODE[5]  # stays there
     with pytest.raises(RegionError, match="syntax error at line 2"):
         FileModel("import taichi as ti\nx = (\n" + SOLVED)  # outside the TODOs: nothing can run
 
 
+def test_bonus_parameters_are_zero_in_every_version_and_edits_of_given_code_are_noted():
+    model = FileModel(make("bonus_inside"))
+    assert model.bonus == {"velocity_damping_stiffness": 1e3, "friction_stiffness": 0.1, "air_drag": 0.02,
+                           "linear_damping": 0.5}
+    graded = model.build(student=range(1, 8)).text
+    for name in model.bonus:
+        assert f"\n{name} = 0.0\n" in graded, name
+    assert model.build(student=range(1, 8), keep_bonus=True).text == model.text
+    assert "air_drag * particle_velocities[i]" in code_of(model, 2)[0]  # the bonus term stays in TODO 2
+    edits = FileModel(make("given_edits"))
+    note = given.note(edits.text, edits.regions)
+    for words in ("ti.init(arch=ti.cpu, debug=False)", "substeps = int(1 / 120 // dt)", "(640, 640)",
+                  "body_angular_velocity[None].cross(ri)"):
+        assert words in note, words
+    assert given.note(model.text, model.regions).count("line ") == 3  # friction (2 lines) and the body's damping
+    assert given.note(SOLVED, FileModel(SOLVED).regions) == ""
+
+
+def test_the_fingerprints_of_the_given_code_are_the_fixtures():
+    unsolved = make("unsolved")
+    assert given.hashes_of(unsolved, FileModel(unsolved).regions) == given.HASHES
+    assert given.fingerprint('x = f("a",\n      b,)') == given.fingerprint("x = f('a', b)")
+
+
 def test_versions_keep_everything_outside_the_todos():
     model = FileModel(make("bonus_friction"))
-    assert model.build(student=range(1, 8)).text == model.text  # all the student's: the file itself
+    assert model.build(student=range(1, 8)).text != model.text  # its friction_stiffness is 0 while grading
+    assert model.build(student=range(1, 8), keep_bonus=True).text == model.text  # all the student's: the file
     params, notes = model.perturbed()
     assert not notes and params["particle_mass"] == 0.7 and params["dt"] == 8e-4
-    changed = model.build(student=range(1, 8), params=params)
+    changed = model.build(student=range(1, 8), params=params, keep_bonus=True)
     diff = [(a, b) for a, b in zip(model.text.splitlines(), changed.text.splitlines()) if a != b]
     assert [b for _, b in diff] == ["particle_mass = 0.7", "initial_velocity = ti.Vector([2.5, 0.0, 1.5])",
                                     "initial_angular_velocity = ti.Vector([4.0, -3.0, 6.0])", "dt = 0.0008"]
     reference = model.build()
-    assert "total_force" in reference.text and "friction_stiffness * normal_force" in reference.text
+    assert "total_force += particle_force[i]" in reference.text and "friction_stiffness * f_collision" in reference.text
     line = next(i for i, t in enumerate(reference.text.splitlines(), 1) if "ref6_q = " in t)
     assert reference.student_line(line) is None and reference.student_line(1) == 1
 
@@ -125,6 +197,8 @@ def test_harness_kernels_parse_and_know_when_they_cannot_vary_dt():
         ast.parse(source)
         assert f"def grader_todo{k}(dt: ti.f64, particle_mass: ti.f64, gravity:" in source
     assert "total_force = ti.Vector([grader_in[" in "".join(harness.kernel(5, model))  # the student's name
+    todo3 = "".join(harness.kernel(3, model))  # declared before the given loop, as the handout does
+    assert todo3.index("    total_force = ti.Vector([0.0, 0.0, 0.0])") < todo3.index("    for i in ti.grouped(")
     text = SOLVED.replace("dt = 1e-3\n", "dt = 1e-3\nhalf_dt = 0.5 * dt\n\n\ndef scaled(x):\n    return dt * x\n")
     assert harness.blocked_by(text, ["body_cm_position[None] += half_dt * body_velocity[None]"]) == "half_dt"
     assert harness.blocked_by(text, ["body_cm_position[None] += scaled(body_velocity[None])"]) == "scaled"

@@ -7,7 +7,12 @@ too): the solution, the handout, a correct submission written differently
 (its kernels compile cold), and one whose TODO 3 is right on the grader's
 single calls but wrong in a simulation (the slowest path: the trajectory run
 is split until the culprit is found). Then a batch of ``copies`` wrong
-submissions with --jobs 1 and --jobs 2. Prints the figures; asserts nothing.
+submissions with --jobs 1 and --jobs 2. Then the course's original handout
+format (--original, default on): the real handout's shape solved, unsolved, a
+one-TODO mistake and a file with bonus terms (tests/data/original_handout/ and
+the variants of tests/grading_original_variants.py), one at a time, and the
+seconds per file of a batch of them with --jobs 2. Prints the figures;
+asserts nothing.
 """
 import argparse
 import json
@@ -45,9 +50,19 @@ def grade(paths, cache, jobs, out):
     return time.monotonic() - start, json.loads(Path(out).read_text())
 
 
+def original_files() -> dict:
+    """name -> text of original-format submissions (the test fixtures in the real handout's shape)."""
+    sys.path.insert(0, str(ROOT / "tests"))
+    from grading_original_variants import make
+
+    return {name: make(name) for name in ("solved", "unsolved", "t4_swapped_cross", "bonus_inside")}
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--copies", type=int, default=8, help="wrong submissions in the throughput batch")
+    p.add_argument("--no-project", action="store_true", help="skip the project format's figures")
+    p.add_argument("--no-original", action="store_true", help="skip the original handout format's figures")
     args = p.parse_args()
     print(f"{os.cpu_count()} CPU cores; load average {os.getloadavg()[0]:.2f}")
     with tempfile.TemporaryDirectory() as tmp:
@@ -58,6 +73,11 @@ def main():
             files.append(tmp / f"{name}.py")
         wall, _ = grade([files[1]], cache, 1, tmp / "a.json")
         print(f"first run (prepares the reference, then grades the handout): {wall:.1f} s")
+        if not args.no_original:
+            bench_original(tmp, cache)
+        if args.no_project:
+            return
+        print("project format:")
         wall, results = grade(files, cache, 1, tmp / "b.json")
         for r in results:
             print(f"  {Path(r['submission']).stem:26s} {r['total']:>3g}/90  {r['seconds']:5.1f} s")
@@ -69,6 +89,19 @@ def main():
         for jobs in (1, 2):
             wall, _ = grade([batch], cache, jobs, tmp / "c.json")
             print(f"batch of {args.copies} (--jobs {jobs}): {wall:.1f} s, {wall / args.copies:.2f} s per submission")
+
+
+def bench_original(tmp, cache):
+    folder = tmp / "original"
+    folder.mkdir()
+    texts = original_files()
+    print("original handout format (one file at a time, --jobs 1; 'seconds' is the file's own grading):")
+    for name, text in texts.items():
+        (folder / f"{name}.py").write_text(text)
+        wall, (r,) = grade([folder / f"{name}.py"], cache, 1, tmp / "o.json")
+        print(f"  {name:26s} {r['total']:>3g}/90  {r['seconds']:5.1f} s  (whole command {wall:.1f} s)")
+    wall, results = grade([folder], cache, 2, tmp / "o.json")
+    print(f"  batch of {len(results)} (--jobs 2): {wall:.1f} s, {wall / len(results):.2f} s per file")
 
 
 if __name__ == "__main__":

@@ -105,9 +105,10 @@ def main(argv=None):
         finish(events)
 
     events.emit(phase="import")
-    from .loader import import_submission
+    from .loader import import_submission, isolate_syntax_errors
 
-    module, problem = import_submission(args.submission, args.memory_mb)
+    submission, syntax_errors = isolate_syntax_errors(args.submission)
+    module, problem = import_submission(submission, args.memory_mb)
     if problem:
         events.emit(event="import_failed", message=problem)
         finish(events)
@@ -129,7 +130,9 @@ def main(argv=None):
         spec = TODOS[k]
         events.emit(phase="direct", todo=k)
         unit = getattr(module, spec.unit, None)
-        if not callable(unit):
+        if k in syntax_errors:
+            result = dict(passed=False, message=syntax_errors[k])
+        elif not callable(unit):
             result = dict(passed=False, message=f"TODO {k}: no function {spec.unit} in the file; "
                                                 f"keep the handout's function names")
         else:

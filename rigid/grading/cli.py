@@ -1,7 +1,8 @@
 """``python scripts/grade.py PATH... [--json OUT] [--csv OUT] [--jobs N] [--points ...]``.
 
 Prints the points split, one progress line per submission as it finishes
-(stderr), then the table and the feedback (stdout). Exit 0 when every
+(stderr), then the table, the feedback and the batch summary (stdout); the
+summary also goes to a file beside the CSV/JSON (--summary). Exit 0 when every
 submission was graded (whatever its score), 2 on bad arguments.
 """
 import argparse
@@ -29,6 +30,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("paths", nargs="+", metavar="PATH", help=".py files, .zip files, or folders of them")
     p.add_argument("--json", metavar="OUT.json", help="write every result, with messages")
     p.add_argument("--csv", metavar="OUT.csv", help="write one row per submission for a gradebook")
+    p.add_argument("--summary", metavar="OUT.txt",
+                   help="write the batch summary (score histogram, TODOs lost most often and why, submissions "
+                        "not graded) there; by default beside the CSV or JSON as NAME.summary.txt")
     p.add_argument("--jobs", type=int, default=os.cpu_count() or 1, metavar="N",
                    help="submissions graded at once (default: the number of CPU cores)")
     p.add_argument("--points", metavar="P1,...,P7",
@@ -88,7 +92,10 @@ def _run(args) -> int:
     if args.memory_mb < MIN_MEMORY_MB:
         raise UserError(f"--memory-mb {args.memory_mb}: Taichi alone needs about 1800 MB of address space; "
                         f"use {MIN_MEMORY_MB} or more")
-    for out, suffix in ((args.json, ".json"), (args.csv, ".csv")):
+    if args.summary is None and (args.csv or args.json):
+        first = Path(args.csv or args.json)
+        args.summary = str(first.with_name(first.stem + ".summary.txt"))
+    for out, suffix in ((args.json, ".json"), (args.csv, ".csv"), (args.summary, ".txt")):
         if out:
             check_output_path(out, (suffix,))
     reference = Path(args.reference).resolve()
@@ -114,6 +121,9 @@ def _run(args) -> int:
     text = report.details(results)
     if text:
         print("\n" + text)
+    print("\n" + report.summary(results))
+    if args.summary:
+        report.write_summary(results, args.summary)
     if args.json:
         report.write_json(results, args.json)
     if args.csv:

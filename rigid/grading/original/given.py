@@ -1,8 +1,8 @@
 """Which lines of a submission are the handout's given code, and which the student edited.
 
 The course's handout is not part of this project; what is kept is a fingerprint
-of each of its given code lines (HASHES: the first 12 hex digits of the SHA-1 of
-the line without whitespace, comments and quote style), enough to tell a given
+of each of its given code statements (HASHES: the first 12 hex digits of the SHA-1
+of the statement without whitespace, comments, quote style and trailing commas), enough to tell a given
 line from an edited one and nothing to read the handout from. ``hashes_of(text)``
 makes them from a file in the handout's shape (the test fixture
 tests/data/original_handout/unsolved.py; tests/test_grading_original.py checks
@@ -20,32 +20,30 @@ parameters (BONUS: ``air_drag = 0.02``) are the student's choice and not listed.
 import hashlib
 import re
 
+from .scan import continuation_lines
+
 PARAMETERS = ("particle_mass", "initial_velocity", "initial_angular_velocity", "gravity", "collision_stiffness",
               "velocity_damping_stiffness", "friction_stiffness", "dt", "file_path", "vertices_np, faces_np")
 HASHES = frozenset({
-    "0022b28cb137", "017fa3139744", "019b2f752f0d", "03c2abbaa056", "04c4f4f3e6a4", "06356922d189", "0911dbc63412",
-    "0a1c14080465", "0a4664089ca3", "0b7913f39f0c", "0e23e01a28d5", "10d953770153", "126ac245176c", "142d29f95e15",
-    "14ea6af5542b", "1e708e525ec8", "1f725bd742df", "2064df83fb38", "208d715b3c17", "211b4998f71e", "2155048fcb59",
-    "217f93267ae9", "21fb5019b740", "24bf038c8233", "26e144f21b9b", "2b8972d1dfd2", "2bf9431b500f", "3114117e0a18",
-    "34008e34d2cc", "36829c399ec2", "3774fd42d924", "377b57b4fa9e", "37f1509dc031", "38245c522a73", "38eb629b1439",
-    "393e330f3d28", "3d667a1880d1", "3fa89bfdd51b", "3fe56d33cd9f", "406cc0046a28", "40ddbe4bd8bc", "4174bbcada98",
-    "4915158039f3", "4b1e30381c41", "4c3385a6ed51", "4ce59595715c", "4f889a2125d3", "4ff447b8ef42", "52d348346520",
-    "5327a6a5002a", "5590088223c3", "565ae70d3523", "5793f452016e", "5834457ea51f", "59e2a393543d", "5a5187d534ba",
-    "5b2b8de28ee5", "5e10702f47fd", "5e83f04fa1d9", "5fb0e9d1521a", "617df1cf1357", "64682be6f288", "64da1d7c26f3",
-    "64fb6e3e5641", "6880422a3c0c", "69e3dfbea2f6", "6a2a979289e3", "6c60f8e47f8e", "6cea8a69e616", "6ece603b0fa3",
-    "7410be0a19f3", "74f06e68df00", "758d63c87b2b", "76bc083e3d14", "77314db3072e", "77330bd41f65", "7836ada968e0",
-    "7b8dcfe2bd94", "806d987b53ad", "82c83fe5d631", "84ea2bb0b562", "86ddd0e10cd2", "89dacf71829f", "8caa6f80f698",
-    "8e4c21e5e74d", "8ef0bae7d5f3", "90e2ddbe4801", "91ebfb60bdde", "97363bf121a6", "98eecd734336", "998859fbbdac",
-    "9afc9b5b2ee7", "9b40b111e028", "9c7d0616f5b5", "9e600ea55eda", "a01c043c374a", "a4086f23d2de", "a483093b4491",
-    "a48b1f255d29", "a5b2a1d15aff", "a9581065b226", "a963308b9b48", "aae3e1f91402", "abf48e32d7cd", "b1b264585d2a",
-    "b421af91cdec", "b9a52a0828ed", "bbbc1a02cc3c", "bcda859a66b5", "bf0a6ed56c13", "c259e9c1c183", "c2c2eb72090a",
-    "c3cf50197d44", "c59ae414de48", "d306c15bf198", "d37c0ea22ac8", "d5405b002383", "d75d0b089cb2", "d82a754e04db",
-    "d85e56f0fe46", "d984f0f4d494", "daea245a4970", "db1055af37f8", "dfb6af2af97a", "e2436c310ad9", "e5851a673d31",
-    "e5dd88f02f4a", "e7c57a2346a5", "eaac00f7f96a", "eee0bbba4ff9", "f29d8e34f966", "f501f18df786", "f72683ce1b9c",
-    "f7d6cfd7d5d7", "fe49b19eabad",
+    "0022b28cb137", "017fa3139744", "03c2abbaa056", "0911dbc63412", "0a1c14080465", "0b7913f39f0c", "0e23e01a28d5",
+    "10d953770153", "126ac245176c", "142d29f95e15", "14ea6af5542b", "1e708e525ec8", "2064df83fb38", "211b4998f71e",
+    "2155048fcb59", "217f93267ae9", "24bf038c8233", "2b8972d1dfd2", "2bf9431b500f", "3114117e0a18", "34008e34d2cc",
+    "36829c399ec2", "377b57b4fa9e", "37f1509dc031", "38eb629b1439", "396da81f3c5f", "3fa89bfdd51b", "406cc0046a28",
+    "4174bbcada98", "4915158039f3", "4c3385a6ed51", "4ce59595715c", "4f889a2125d3", "52d348346520", "5327a6a5002a",
+    "5590088223c3", "5793f452016e", "5834457ea51f", "59e2a393543d", "5b2b8de28ee5", "5e10702f47fd", "5e83f04fa1d9",
+    "5fb0e9d1521a", "617df1cf1357", "64682be6f288", "64da1d7c26f3", "64fb6e3e5641", "6880422a3c0c", "69e3dfbea2f6",
+    "6a2a979289e3", "6c60f8e47f8e", "6cea8a69e616", "7410be0a19f3", "74f06e68df00", "758d63c87b2b", "76bc083e3d14",
+    "77314db3072e", "77330bd41f65", "7836ada968e0", "806d987b53ad", "82c83fe5d631", "84ea2bb0b562", "86ddd0e10cd2",
+    "8e4c21e5e74d", "8ef0bae7d5f3", "90e2ddbe4801", "97363bf121a6", "998859fbbdac", "9a2320d7cbd7", "9afc9b5b2ee7",
+    "9c7d0616f5b5", "9e600ea55eda", "a4086f23d2de", "a483093b4491", "a5b2a1d15aff", "a803d4bdbe17", "a9581065b226",
+    "a963308b9b48", "abf48e32d7cd", "b1b264585d2a", "b421af91cdec", "bbbc1a02cc3c", "bd8272fbe507", "bf0a6ed56c13",
+    "c259e9c1c183", "c3cf50197d44", "c59ae414de48", "d306c15bf198", "d37c0ea22ac8", "d409e710ce96", "d5405b002383",
+    "d75d0b089cb2", "d82a754e04db", "d85e56f0fe46", "d984f0f4d494", "daea245a4970", "db1055af37f8", "dfb6af2af97a",
+    "e2436c310ad9", "e5851a673d31", "e5dd88f02f4a", "e7c57a2346a5", "eaac00f7f96a", "eee0bbba4ff9", "f29d8e34f966",
+    "f501f18df786", "f72683ce1b9c", "f7d6cfd7d5d7", "fe49b19eabad",
 })
 HASHES_2023 = frozenset({
-    "8e6ef0beb9c0", "bb9863449814",
+    "8e6ef0beb9c0", "abe385261a7d",
 })
 
 
@@ -65,18 +63,34 @@ def normalise(line: str) -> str:
 
 
 def fingerprint(line: str) -> str:
-    return hashlib.sha1(normalise(line).encode()).hexdigest()[:12]
+    """12 hex digits of the SHA-1 of a statement (its lines joined) without whitespace, comments, quote
+    style and trailing commas (so a black-formatted file's given code reads as given)."""
+    code = re.sub(r",([)\]}])", r"\1", "".join(normalise(part) for part in line.splitlines()))
+    return hashlib.sha1(code.encode()).hexdigest()[:12]
+
+
+def statements(text: str) -> list:
+    """(1-based first line, index of that line, the statement's lines joined) of every code statement."""
+    lines = text.splitlines()
+    cont = continuation_lines(text)
+    out = []
+    for i, line in enumerate(lines):
+        if i in cont and out:
+            out[-1][2] += "\n" + line
+        elif normalise(line):
+            out.append([i + 1, i, line])
+    return [tuple(s) for s in out]
 
 
 def code_lines(text: str, regions: dict) -> list:
-    """(1-based line number, line) of the code lines outside the TODO regions."""
+    """(1-based line number, statement) of the code statements outside the TODO regions."""
     inside = {j for r in regions.values() for j in range(r.start, r.end)}
-    return [(i + 1, line) for i, line in enumerate(text.splitlines())
-            if i not in inside and normalise(line)]
+    return [(n, statement) for n, i, statement in statements(text) if i not in inside]
 
 
 def hashes_of(text: str, regions: dict) -> frozenset:
-    return frozenset(fingerprint(line) for _, line in code_lines(text, regions))
+    """The fingerprints of a file's given statements, parameters left out (HASHES, from the fixture)."""
+    return frozenset(fingerprint(line) for _, line in code_lines(text, regions) if not _is_parameter(line))
 
 
 BONUS = re.compile(r"damp|fric|drag|viscos|restitution|resist", re.IGNORECASE)  # names of bonus parameters
@@ -95,8 +109,8 @@ def edits(text: str, regions: dict) -> tuple:
     """([(line number, line) of edited or added given code], number of the handout's given lines not found)."""
     known = HASHES | HASHES_2023
     lines = code_lines(text, regions)
-    found = {fingerprint(line) for line in text.splitlines()}
-    changed = [(n, line.strip()) for n, line in lines
+    found = {fingerprint(statement) for _, _, statement in statements(text)}
+    changed = [(n, line.strip().splitlines()[0]) for n, line in lines
                if fingerprint(line) not in known and not _is_parameter(line)]
     missing = len({h for h in HASHES if h not in found})
     return changed, missing
@@ -110,7 +124,7 @@ def note(text: str, regions: dict, limit: int = 6) -> str:
     if len(HASHES) and missing > len(HASHES) // 2:
         return (f"the code outside the TODOs differs from the handout's in most lines ({missing} of its "
                 f"{len(HASHES)} given lines not found); it is kept as it is in every version the grader compares")
-    shown = "; ".join(f"line {n}: {line[:70]}" for n, line in changed[:limit])
+    shown = "; ".join(f"line {n}: {line[:100]}" for n, line in changed[:limit])
     more = f"; and {len(changed) - limit} more" if len(changed) > limit else ""
     gone = f"; {missing} given line{'s' if missing > 1 else ''} of the handout removed or rewritten" if missing else ""
     return (f"edits of the given code (they cost nothing: the grader runs them in every version it compares): "
