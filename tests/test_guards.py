@@ -128,3 +128,52 @@ def test_time_left_from_a_first_frame_alone_is_an_upper_bound():
 
     line = TimeLeft(10, out=open("/dev/null", "w")).chunk_done(1, 1, 120.0)
     assert line.startswith("1 of 10 frames in 120 s: 120 s a frame (compiling included), at most 18 min to go")
+
+
+# --- a body leaving the box (rigid.run.escape) -----------------------------------------------------
+
+def _block(x, v=None):
+    x = np.asarray(x, float)
+    return {"x": x, "v": np.ones_like(x) if v is None else np.asarray(v, float)}
+
+
+def test_escape_finds_the_first_row_past_a_wall():
+    from rigid.config import SimConfig
+    from rigid.run.escape import first_escape
+
+    cfg = SimConfig().validate()
+    inside = [[0.0, -0.7, 0.0], [1.2, -0.7, 0.0]]  # 0.2 m past x = +1: a deep contact, not out
+    assert first_escape(_block(inside), cfg) is None
+    row, what, fix = first_escape(_block(inside + [[0.5, -0.9, -1.6], [0.0, 9.0, 0.0]]), cfg)
+    assert row == 2 and what.startswith("the body left the box: its centre of mass is 0.6 m past the wall z = -1")
+    assert "--no-walls" in fix
+    assert first_escape(_block([[0.0, 50.0, 0.0]]), cfg) is None  # no ceiling: up is free
+    assert first_escape(_block([[0.0, -1.5, 0.0]]), cfg)[1].startswith("the body left the box: its centre of "
+                                                                       "mass is 0.5 m past the floor y = -1")
+    assert first_escape(_block([[5.0, 0.0, 0.0]]), cfg.replace(walls=False)) is None
+
+
+def test_escape_names_the_body_and_its_arrival_speed():
+    from rigid.config import SimConfig
+    from rigid.run.escape import first_escape
+
+    x = np.zeros((2, 3, 3))
+    x[1, 2] = [-2.0, 0.0, 0.0]
+    v = np.zeros((2, 3, 3))
+    v[0, 2] = [-400.0, 0.0, 0.0]  # the speed it came with, a frame before
+    row, what, _fix = first_escape(_block(x, v), SimConfig(count=3, scale=0.1).validate())
+    assert row == 1 and what.startswith("body 3 left the box: its centre of mass is 1 m past the wall x = -1, "
+                                        "moving at 400 m/s (the walls' spring stops a particle within "
+                                        "v·√(m/k) = 4 m)")
+
+
+def test_a_body_thrown_through_the_wall_stops_the_run_and_keeps_the_good_frames(tmp_path):
+    from conftest import run_cli
+
+    out = tmp_path / "t.npz"
+    proc = run_cli("--headless", "--frames", 30, "--v0", 1000, 0, 0, "--export", out)
+    assert proc.returncode == 3, proc.stderr
+    last = proc.stderr.strip().splitlines()[-1]
+    assert last.startswith("blow-up at t = 0.016 s (frame 1): the body left the box: its centre of mass is "
+                           "1.16 m past the wall x = +1, moving at 1e+03 m/s"), last
+    assert np.load(out)["x"].shape == (1, 3)  # frame 0, the last good one

@@ -13,6 +13,7 @@ import time
 from dataclasses import dataclass
 
 from .diagnostics import Trajectory, first_blow_up, stability_hint
+from .escape import first_escape
 from .exports import write_exports
 from .progress import TimeLeft
 
@@ -81,15 +82,18 @@ def run_frames(sim, frames: int | None, export_path=None, on_frame=None) -> RunR
                 if eta is not None:  # one line on stderr once the run looks long: its time left
                     eta.chunk_done(result.frames + size, size, time.perf_counter() - began)
                 bad = first_blow_up(block, e0, bound)
+                escape = first_escape(block, cfg, last)  # a body through a wall: its energy does not show it
+                if escape is not None and (bad is None or escape[0] <= bad[0]):
+                    bad = escape
                 if bad is not None:
-                    index, problem = bad
+                    index, problem = bad[:2]
                     if export_path:
                         trajectory.append_block(block, index)
                     first = result.frames + index + 1
                     last = _row(block, index - 1) if index else last
                     result = RunResult(first - 1, "blew-up",
                                        f"blow-up at t = {block['t'][index]:.4g} s (frame {first}): {problem}; "
-                                       f"{stability_hint(cfg)}")
+                                       f"{bad[2] if len(bad) > 2 else stability_hint(cfg)}")
                     break
                 if export_path:  # rows are kept only for an export: a window left open stays in constant memory
                     trajectory.append_block(block)
