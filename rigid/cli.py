@@ -131,18 +131,17 @@ def _run(args, units) -> int:
 
     # Every mesh and placement error before the slow Taichi start-up.
     bodies = scene_bodies(config)
-    geometry = bodies[0].geometry if not config.many_bodies else None
-    if config.walls:  # a single body pushes on its particle centres, many on their spheres
-        check_inside_box(bodies, config.floor, config.wall, use_radius=config.many_bodies)
+    if config.walls:  # every particle's sphere inside (a lone body's radius is 0: its centres)
+        check_inside_box(bodies, config.floor, config.wall, use_radius=True)
     if units is None:
-        from .engine.units import load_units
-        units = load_units(Path(__file__).resolve().parent.parent / "rigid_body_dynamic.py")
+        from .engine.units import default_units
+        units = default_units()
 
     from .runtime import init_taichi
     from .engine.simulator import Simulator
 
     backend = init_taichi(config.arch, config.fp64)
-    sim = Simulator(config, units, geometry, bodies if config.many_bodies else None)
+    sim = Simulator(config, units, bodies=bodies)
     if args.record:
         from .view.video import record
         result = record(sim, args.record, config.frames or HEADLESS_FRAMES, config.resolution,
@@ -170,6 +169,6 @@ def _summary(sim, result, backend) -> None:
               f"{x.min(axis=0).round(3).tolist()} to {x.max(axis=0).round(3).tolist()}, {energy}")
         return
     print(f"{result.frames} frames, t = {snap['t']:.3f} s on {backend} ({sim.model.num_particles} particles, "
-          f"{sim.substeps} substeps/frame): x = {snap['x'].round(4).tolist()}, {energy}")
+          f"{sim.substeps} substeps/frame): x = {snap['x'][0].round(4).tolist()}, {energy}")
     if result.message:
         print(result.message, file=sys.stderr)

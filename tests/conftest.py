@@ -2,12 +2,9 @@
 
 ``ti.init`` resets every field and kernel, so the suite initialises once per
 process; tests that need float64 or another arch run a subprocess.
-A Simulator takes 2-5 s to compile (kernels are compiled per Simulator, and
-Taichi's disk cache is only written when a process exits), so tests share
-them: ``sim_cache`` for configs given as keywords, ``shared_simulators`` for
-whole configs (scene files, the command line run in-process through
-``cli_shares_simulators``), both reset or changed with ``Simulator.reconfigure``
-(no recompile).
+The engine's kernels compile once per process (a few seconds, then Taichi's disk
+cache), and a Simulator of any scene then builds in well under a second, so tests
+build their own (``sim_cache``).
 
 The suite runs on pytest-xdist workers (``-n auto`` in pyproject.toml, one per
 CPU; ``-n 0`` runs it in one process). ``pytest_collection_modifyitems`` keeps
@@ -100,83 +97,16 @@ def units(ti_cpu):
 
 
 @pytest.fixture(scope="session")
-def sim_cache(units, shared_simulators):
-    """sim_cache(**config) -> a Simulator for that config, built once per process, reset to
-    the config's initial state (runtime keys not given take SimConfig's defaults).
-
-    Through ``shared_simulators``, so the command line run in-process shares them, and several
-    bodies start as asked (rigid.science.experiments.SimulatorCache, used before, builds them
-    from the config without its runtime keys: bodies placed and moving as by default)."""
+def sim_cache(units):
+    """sim_cache(**config) -> a new Simulator for that config (float32, the solution's units).
+    Building one is cheap: the kernels are compiled once per process (rigid.engine.kernels)."""
     from rigid.config import SimConfig
+    from rigid.engine.simulator import Simulator
 
     def get(**config):
-        full = SimConfig(fp64=False, **config).validate()
-        return shared_simulators.get(full, lambda: shared_simulators.Simulator(full, units))
+        return Simulator(SimConfig(fp64=False, **config).validate(), units)
 
     return get
-
-
-class SharedSimulators:
-    """get(config, build) -> the Simulator built by ``build()`` for an equal config earlier in this
-    process, reconfigured to ``config`` (its runtime keys) and reset; else ``build()``'s.
-
-    Runtime keys are Simulator.RUNTIME_KEYS for one body; for several bodies only the 0-d
-    parameters (Δt, stiffnesses, gravity, frames): their placement is made when they are built.
-    """
-
-    def __init__(self):
-        from rigid.engine.simulator import Simulator
-        from rigid.engine.state import Params
-
-        self.Simulator = Simulator  # the class itself, even while cli_sharing replaces it
-        self.single = frozenset(Simulator.RUNTIME_KEYS)
-        self.many = frozenset(Params.NAMES) - {"floor", "wall"} | {"gravity", "frames"}
-        self.sims = {}
-
-    def get(self, config, build):
-        runtime = self.many if config.many_bodies else self.single
-        key = tuple((f.name, repr(getattr(config, f.name))) for f in dataclasses.fields(config)
-                    if f.name not in runtime)
-        sim = self.sims.get(key)
-        if sim is None:
-            sim = self.sims[key] = build()
-            return sim
-        return sim.reconfigure(**{name: getattr(config, name) for name in runtime})
-
-
-@pytest.fixture(scope="session")
-def shared_simulators(units):
-    return SharedSimulators()
-
-
-@contextlib.contextmanager
-def cli_sharing(shared):
-    """Within: rigid.cli.main (which builds ``rigid.engine.simulator.Simulator(...)``) gets its
-    Simulator from ``shared`` when it runs the repository's solution."""
-    import rigid.engine.simulator as module
-
-    original = shared.Simulator
-
-    class Shared(original):
-        def __new__(cls, config, units, *args, **kwargs):
-            def build():
-                return original(config, units, *args, **kwargs)
-
-            if Path(getattr(units, "__file__", "")).resolve() != SOLUTION:
-                return build()
-            # An instance of the original class, so Python does not run __init__ again.
-            return shared.get(config, build)
-
-    with pytest.MonkeyPatch.context() as patch:
-        patch.setattr(module, "Simulator", Shared)
-        yield shared
-
-
-@pytest.fixture
-def cli_shares_simulators(shared_simulators):
-    """rigid.cli.main run in this test builds its Simulator once per config and process."""
-    with cli_sharing(shared_simulators) as shared:
-        yield shared
 
 
 def default_sigint():

@@ -49,8 +49,8 @@ def main() -> None:
     t_handle = get(**ex.T_HANDLE).model
     sphere = get(particles="volume", grid=10).model
     out["models"] = {name: dict(mass=m.mass, particle_mass=float(m.particle_mass.to_numpy()[0]),
-                                count=m.num_particles, inertia=m.inertia_body_np.tolist(),
-                                center_of_mass=m.center_of_mass.tolist())
+                                count=m.num_particles, inertia=m.inertia_body_np[0].tolist(),
+                                center_of_mass=m.center_of_mass_np[0].tolist())
                      for name, m in (("t_handle", t_handle), ("sphere_volume_10", sphere))}
     out["seconds"] = seconds
     json.dump(out, sys.stdout, default=float)

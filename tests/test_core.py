@@ -44,8 +44,8 @@ def test_inertia_is_numpys_particle_sum(sim_cache):
     v, _ = load_mesh(ASSETS / "t_handle.obj")
     r = v - v.mean(axis=0)
     expect = 0.7 * (np.sum(r * r) * np.eye(3) - r.T @ r)
-    np.testing.assert_allclose(sim.model.inertia_body_np, expect, rtol=1e-5, atol=1e-6)
-    np.testing.assert_allclose(sim.model.inertia_body_np @ sim.model.inertia_body_inv_np, np.eye(3), atol=1e-5)
+    np.testing.assert_allclose(sim.model.inertia_body_np[0], expect, rtol=1e-5, atol=1e-6)
+    np.testing.assert_allclose(sim.model.inertia_body_np[0] @ sim.model.inertia_body_inv_np[0], np.eye(3), atol=1e-5)
 
 
 def test_free_flight_momentum_and_explicit_euler_parabola(sim_cache):
@@ -56,12 +56,13 @@ def test_free_flight_momentum_and_explicit_euler_parabola(sim_cache):
     for frame in range(1, 31):
         sim.step_frame()
     s, k = sim.snapshot(), 30 * n
+    assert s["P"].shape == (1, 3)  # per body, always
     # float32 round-off bound of k sequential additions: k ε max|value|.
     P = M * v0 + M * g * k * dt
-    np.testing.assert_allclose(s["P"], P, rtol=0, atol=k * np.finfo(np.float32).eps * np.abs(P).max())
+    np.testing.assert_allclose(s["P"][0], P, rtol=0, atol=k * np.finfo(np.float32).eps * np.abs(P).max())
     # Explicit Euler moves x with the old velocity: x_k = x0 + v0 k dt + g dt² k(k-1)/2.
     x = x0 + v0 * k * dt + g * dt**2 * k * (k - 1) / 2
-    np.testing.assert_allclose(s["x"], x, rtol=0, atol=k * np.finfo(np.float32).eps * np.abs(x).max())
+    np.testing.assert_allclose(s["x"][0], x, rtol=0, atol=k * np.finfo(np.float32).eps * np.abs(x).max())
     # ... which semi-implicit Euler, k(k+1)/2, would miss by g dt² k: far above round-off.
     assert np.abs(g * dt**2 * k).max() > 100 * k * np.finfo(np.float32).eps * np.abs(x).max()
 
@@ -82,7 +83,7 @@ def test_dropped_sphere_stays_above_floor_and_comes_to_rest(sim_cache):
     lowest, speeds = np.inf, []
     for _ in range(600):
         sim.step_frame()
-        lowest = min(lowest, sim.state.particle_x.to_numpy()[:, 1].min())
+        lowest = min(lowest, sim.particle_positions()[:, 1].min())
         speeds.append(np.linalg.norm(sim.snapshot()["v"]))
     # Bound from energy: falling 0.7 m onto one undamped spring k gives depth d with
     # ½ k d² = M g (0.7 + d); damping only makes it shallower.
@@ -90,7 +91,7 @@ def test_dropped_sphere_stays_above_floor_and_comes_to_rest(sim_cache):
     d_max = (M * g + np.sqrt((M * g) ** 2 + 2 * k * M * g * 0.7)) / k
     assert -1.0 - lowest < d_max
     assert max(speeds[-60:]) < 1e-3  # at rest during the 10th second
-    assert abs(sim.snapshot()["x"][1] - (-1.0 + 0.3)) < 0.05  # resting on the floor, not sunk
+    assert abs(sim.snapshot()["x"][0, 1] - (-1.0 + 0.3)) < 0.05  # resting on the floor, not sunk
 
 
 def test_thrown_sphere_stops_sliding(sim_cache):
@@ -99,10 +100,10 @@ def test_thrown_sphere_stops_sliding(sim_cache):
     slip = []
     for _ in range(240):
         sim.step_frame()
-        x, v = sim.state.particle_x.to_numpy(), sim.state.particle_v.to_numpy()
+        x, v = sim.particle_positions(), sim.particle_velocities()
         slip.append(np.linalg.norm(v[np.argmin(x[:, 1])][[0, 2]]))
     s = sim.snapshot()
     assert slip[5] > 0.5  # it starts out sliding on the floor ...
     assert max(slip[-30:]) < 0.01  # ... and friction ends the sliding
     assert np.linalg.norm(s["v"]) < 0.05  # and the polyhedral ball comes to rest
-    assert s["x"][0] < 1.0 - 0.3 + 0.05  # never through the wall
+    assert s["x"][0, 0] < 1.0 - 0.3 + 0.05  # never through the wall

@@ -9,7 +9,7 @@ import sys
 import numpy as np
 import pytest
 
-from conftest import ROOT, cli_sharing
+from conftest import ROOT
 
 pygltflib = pytest.importorskip("pygltflib")
 VALIDATOR = ROOT / ".tools" / "node_modules" / "gltf-validator"
@@ -39,16 +39,15 @@ def run(argv, capsys):
 
 
 @pytest.fixture(scope="module")
-def one_body(tmp_path_factory, shared_simulators):
-    """The thrown sphere, 12 frames, every format from one run (its Simulator shared with
-    test_scenes.py); then the GLB and USDA of a second run with a Simulator of its own."""
+def one_body(tmp_path_factory, ti_cpu):
+    """The thrown sphere, 12 frames, every format from one run; then the GLB and USDA of a
+    second run."""
     folder = tmp_path_factory.mktemp("one")
     names = ["a.npz", "a.glb", "a.gltf", "a.usda", "a.usdc"]
     from rigid.cli import main
 
     argv = ["--headless", "--frames", "12", "--scene", str(ROOT / "assets/scenes/thrown_sphere.toml")]
-    with cli_sharing(shared_simulators):
-        assert main(argv + [arg for n in names for arg in ("--export", str(folder / n))]) == 0
+    assert main(argv + [arg for n in names for arg in ("--export", str(folder / n))]) == 0
     assert main(argv + ["--export", str(folder / "b.glb"), "--export", str(folder / "b.usda")]) == 0
     return folder
 
@@ -220,7 +219,7 @@ def test_validator_finds_no_errors_or_warnings(one_body, three_bodies, tmp_path)
         assert (issues["numErrors"], issues["numWarnings"]) == (0, 0), (path.name, issues["messages"])
 
 
-def test_blow_up_keeps_the_good_frames_in_every_format(tmp_path, cli_shares_simulators, capsys):
+def test_blow_up_keeps_the_good_frames_in_every_format(tmp_path, ti_cpu, capsys):
     scene = tmp_path / "stiff.toml"
     scene.write_text("collision_stiffness = 1e7\n")
     code, err = run(["--frames", 300, "--scene", scene, "--export", tmp_path / "t.npz",

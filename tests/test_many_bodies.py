@@ -2,7 +2,7 @@
 
 Float64 numbers come from tests/many_body_fp64_worker.py, started in the background when this
 module is imported (one ti.init per process; under xdist by the first test that needs it, see
-background.py); the scenes run here in float32, their Simulators shared with test_scenes.py.
+background.py); the scenes run here in float32.
 """
 import hashlib
 from pathlib import Path
@@ -49,9 +49,8 @@ def test_restitution_matches_the_damped_spring(fp64):
 
 
 @pytest.fixture
-def scene_sim(units, shared_simulators):
-    """scene_sim(name, **changes) -> the scene's Simulator (built once per process: test_scenes.py
-    runs the same scenes through the command line), at its initial state."""
+def scene_sim(units):
+    """scene_sim(name, **changes) -> a Simulator of the scene, at its initial state."""
     from rigid.config import SimConfig, load_scene
     from rigid.engine.simulator import Simulator
 
@@ -59,7 +58,7 @@ def scene_sim(units, shared_simulators):
         values = load_scene(ROOT / "assets" / "scenes" / f"{name}.toml")
         values.update(changes)
         config = SimConfig(**values).validate()
-        return shared_simulators.get(config, lambda: Simulator(config, units))
+        return Simulator(config, units)
 
     return get
 

@@ -26,7 +26,7 @@ def test_vertex_inertia_is_the_particle_sum(sim_cache):
     sim = sim_cache()
     vertices, _ = load_mesh(sim.config.mesh, sim.config.scale)
     expected = inertia_sum(vertices, sim.config.particle_mass)
-    assert np.abs(sim.model.inertia_body_np - expected).max() <= 1e-6 * np.abs(expected).max()
+    assert np.abs(sim.model.inertia_body_np[0] - expected).max() <= 1e-6 * np.abs(expected).max()
 
     t_handle = physics_results.results()["models"]["t_handle"]
     vertices, _ = load_mesh(ASSETS / "t_handle.obj", 1.0)

@@ -1,8 +1,6 @@
 """Every scene in assets/scenes runs headless through the CLI and exports finite frames.
 
-The command line runs in this process and builds each scene's Simulator once per process
-(conftest.cli_shares_simulators): test_many_bodies.py and test_export_animation.py run the
-same scenes, in the same xdist group."""
+The command line runs in this process (its kernels are compiled once per process)."""
 import numpy as np
 import pytest
 
@@ -17,7 +15,7 @@ def test_there_are_the_four_promised_scenes():
 
 
 @pytest.mark.parametrize("scene", SCENES, ids=[s.stem for s in SCENES])
-def test_scene_runs_headless(scene, tmp_path, monkeypatch, cli_shares_simulators, capsys):
+def test_scene_runs_headless(scene, tmp_path, monkeypatch, ti_cpu, capsys):
     from rigid.cli import main
 
     monkeypatch.chdir(ROOT)

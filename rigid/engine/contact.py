@@ -1,46 +1,79 @@
-"""Contact with the assignment's box: floor y = floor, walls x = ±wall, z = ±wall.
+"""The one contact law: static planes on particles and particles of two bodies on each other.
 
-Each of the five planes pushes a particle that is ``depth`` > 0 behind it with
-  f_n = max(0, k·depth − k_d·(v·n))           (penalty spring + normal damping)
-  f_t = −μ f_n · v_t / max(|v_t|, v_slip)     (Coulomb friction, regularised)
-where n is the plane's normal into the box, v_t = v − (v·n) n. The handout
-declared k_d (``velocity_damping_stiffness``) and μ (``friction_stiffness``)
-but never used them. Clamping f_n at zero keeps damping from gluing a
-separating particle to the wall. Below ``V_SLIP`` the friction is viscous
-instead of a sign flip, which an explicit integrator would turn into chatter.
+Every contact, wall or pair, is a penalty spring on the overlap δ of a particle's sphere
+(radius r, the body's ``particle_radius``) with the other side, with
+  f_n = max(0, k δ − k_d v_n)                 spring + damping of the approach speed, never pulling
+  f_t = −min(μ f_n, k_d |v_t|) v_t / |v_t|    Coulomb friction, viscous (k_d) where it would stick
+(k ``collision_stiffness``, k_d ``velocity_damping_stiffness``, μ ``friction_stiffness``;
+v_n, v_t the normal and tangential parts of the relative velocity at the contact).
+
+Why this law:
+- The clamp f_n ≥ 0 keeps damping from gluing a separating particle to the wall.
+- Friction's sticking regime is a viscous force capped at k_d: no stiffer than the normal
+  damping, which the step already resolves (explicit Euler needs Δt k_d / m < 2). A
+  coefficient that grows with the load (μ f_n / v_slip, this engine's old wall law) passes
+  that limit under a stack (the lower bodies carry many times their weight) and tips it over.
+- Spheres, not centres: two bodies' particles must touch before their centres meet, and a
+  wall the same way, so the gap a body rests at is one rule for walls and pairs. A lone body
+  has radius 0 unless ``particle_radius`` is set: its particles are the mesh's vertices, as
+  on the slides, and the drawn mesh touches the floor.
+
+A pair's force acts at the contact point c, in the middle of the overlap; the engine applies
+it at the particle centre through TODO 3 and 4 and adds the couple (c − pᵢ) × fᵢ that moves it
+to c, so the two equal and opposite forces change neither the total momentum nor the total
+angular momentum. Every pair expression is antisymmetric in (i, j) operation by operation (c
+from a symmetric formula; a − b = −(b − a) in IEEE arithmetic), so the force j gets when it
+visits i is exactly −fᵢ, bit for bit.
 """
 import taichi as ti
 
-V_SLIP = 1e-2  # m/s; sliding slower than this is treated as sticking (viscous friction)
+
+@ti.func
+def friction(fn, vt, mu, kd):
+    """Coulomb friction against the tangential velocity vt, capped by viscous damping kd."""
+    speed = vt.norm()
+    force = ti.Vector.zero(float, 3)
+    if speed > 0:
+        force = (-ti.min(mu * fn, kd * speed) / speed) * vt
+    return force
 
 
 @ti.func
-def plane_force(p, v, normal, offset, k, kd, mu):
-    """Force and elastic energy from the plane {y : normal·y = offset}, normal into the box."""
+def plane_force(p, v, radius, plane, k, kd, mu):
+    """The plane {y : n·y = offset} (``plane`` = (n, offset), n into the free side) on a particle's
+    sphere at p moving at v: the force at its centre and the spring's energy ½ k δ²."""
+    normal = ti.Vector([plane[0], plane[1], plane[2]])
     force = ti.Vector.zero(float, 3)
     energy = 0.0
-    depth = offset - normal.dot(p)
+    depth = plane[3] + radius - normal.dot(p)
     if depth > 0:
         vn = normal.dot(v)
         fn = ti.max(k * depth - kd * vn, 0.0)
-        vt = v - vn * normal
-        force = fn * normal - mu * fn * vt / ti.max(vt.norm(), V_SLIP)
+        force = fn * normal + friction(fn, v - vn * normal, mu, kd)
         energy = 0.5 * k * depth * depth
     return force, energy
 
 
 @ti.func
-def floor_force(p, v, floor, k, kd, mu):
-    """The floor's share of box_force (the engine calls it alone where no wall is near)."""
-    return plane_force(p, v, ti.Vector([0.0, 1.0, 0.0]), floor, k, kd, mu)
-
-
-@ti.func
-def box_force(p, v, floor, wall, k, kd, mu):
-    """Total contact force on a particle at p moving at v, and the springs' elastic energy."""
-    f0, e0 = floor_force(p, v, floor, k, kd, mu)
-    f1, e1 = plane_force(p, v, ti.Vector([1.0, 0.0, 0.0]), -wall, k, kd, mu)
-    f2, e2 = plane_force(p, v, ti.Vector([-1.0, 0.0, 0.0]), -wall, k, kd, mu)
-    f3, e3 = plane_force(p, v, ti.Vector([0.0, 0.0, 1.0]), -wall, k, kd, mu)
-    f4, e4 = plane_force(p, v, ti.Vector([0.0, 0.0, -1.0]), -wall, k, kd, mu)
-    return f0 + f1 + f2 + f3 + f4, e0 + e1 + e2 + e3 + e4
+def pair_force(p_i, p_j, r_a, r_b, x_a, v_a, w_a, x_b, v_b, w_b, k, kd, mu):
+    """Particle j (body b) on particle i (body a): (force on i, its couple about p_i moving it to
+    the contact point, half the pair's ½ k δ² (each pair is visited from both sides))."""
+    force = ti.Vector.zero(float, 3)
+    couple = ti.Vector.zero(float, 3)
+    energy = 0.0
+    d = p_j - p_i
+    dist2 = d.dot(d)
+    reach = r_a + r_b
+    if dist2 < reach * reach and dist2 > 0:
+        dist = ti.sqrt(dist2)
+        n = d / dist
+        overlap = reach - dist
+        c = 0.5 * (p_i + p_j) + (0.5 * (r_a - r_b)) * n
+        v_rel = (v_b + w_b.cross(c - x_b)) - (v_a + w_a.cross(c - x_a))
+        vn = v_rel.dot(n)
+        fn = ti.max(k * overlap - kd * vn, 0.0)
+        # The relative velocity is j's relative to i: friction on i acts along +v_t.
+        force = -fn * n - friction(fn, v_rel - vn * n, mu, kd)
+        couple = (c - p_i).cross(force)
+        energy = 0.25 * k * overlap * overlap
+    return force, couple, energy

@@ -1,26 +1,31 @@
-"""A uniform grid over the particles, rebuilt every substep by a counting sort.
+"""A uniform grid over the particles, rebuilt every substep by a counting sort (bodies in contact).
 
-Cells are cubes of side h = the largest particle diameter, so two particles
-that touch lie in the same or adjacent cells. The grid has D³ cells (D a power
-of two, D³ about twice the particle count) and wraps: particle p lies in cell
-(⌊p/h⌋ mod D) on each axis, so the world needs no bounds and far-apart
-particles that share a wrapped cell only cost a distance test. Every particle
-goes in its cell: no cap per cell (Harada's GPU Gems 3 grid keeps 4 a cell and
+Cells are cubes of side h = the largest particle diameter, so two particles that touch lie
+in the same or adjacent cells. The grid has D³ cells (D a power of two, D³ about twice the
+particle count) and wraps: a particle at p lies in cell ⌊p/h⌋ mod D on each axis, so the world
+needs no bounds and far-apart particles sharing a wrapped cell only cost a distance test.
+Every particle goes in its cell: no cap per cell (Harada's GPU Gems 3 grid keeps 4 a cell and
 drops the rest, which drops contacts).
 
 Build (taichi_dem's count / prefix sum / scatter):
   count:   cell_count[c] = particles in c                 (atomic add, per particle)
   scan:    cell_start[c] = Σ_{c' < c} cell_count[c']       (scan.py)
   scatter: sorted_particle[cell_start[c] ...] = particles of c (atomic cursor)
-  order:   each cell's particles by index (parallel scatter order varies; a fixed
-           order keeps every later sum, and so every run, bit-reproducible)
-Neighbours of a particle: the 3 × 3 rows of 3 cells around it; a row's three
-cells are consecutive in memory unless it wraps, so it is one range of
-sorted_particle (9 ranges instead of 27 cells).
+  order:   each cell's particles by slot (a parallel scatter's order varies; a fixed order
+           keeps every later sum, and so every run, bit-reproducible)
+Neighbours of a particle: the 3 × 3 rows of 3 cells around it; a row's three cells are
+consecutive in memory unless it wraps, so it is one range of sorted_particle.
+
+Scratch arrays (ScratchArgs): ``cell_count``, ``cell_cursor`` [C] i32, ``cell_start`` [C + 1] i32,
+``particle_cell``, ``sorted_particle`` [N] i32, ``grid_dims`` = (D, C, scan chunks) i32,
+``grid_inv_cell`` = (1/h,) float. ``GridShape`` sizes them on the host.
 """
+
+from dataclasses import dataclass
+
 import taichi as ti
 
-from .scan import make_scan
+from .scan import CHUNK, scan_parallel, scan_serial
 
 
 def grid_dimension(num_particles: int) -> int:
@@ -31,82 +36,108 @@ def grid_dimension(num_particles: int) -> int:
     return d
 
 
-class NeighbourGrid:
-    def __init__(self, num_particles: int, cell_size: float):
-        self.dim = D = grid_dimension(num_particles)
-        self.num_cells = C = D * D * D
-        self.cell_size = float(cell_size)
-        n = max(num_particles, 1)
-        self.cell_count = ti.field(ti.i32, shape=C)
-        self.cell_start = ti.field(ti.i32, shape=C + 1)
-        self.cell_cursor = ti.field(ti.i32, shape=C)
-        self.particle_cell = ti.field(ti.i32, shape=n)
-        self.sorted_particle = ti.field(ti.i32, shape=n)
-        self.scan_parallel, self.scan_serial = make_scan(self.cell_count, self.cell_start, C)
-        self._build_funcs()
+@dataclass
+class GridShape:
+    """The grid's sizes for N particles (no grid without pairs: one cell)."""
 
-    def _build_funcs(self):
-        D, mask = self.dim, self.dim - 1
-        inv_h = 1.0 / self.cell_size
-        count, start, cursor = self.cell_count, self.cell_start, self.cell_cursor
-        cell_of, order = self.particle_cell, self.sorted_particle
+    dim: int
+    num_cells: int
+    num_chunks: int
 
-        @ti.func
-        def cell_coords(p):
-            """Integer cell coordinates (unwrapped) of a world point."""
-            return ti.floor(p * inv_h, ti.i32)
+    @classmethod
+    def for_particles(cls, num_particles: int, pairs: bool) -> "GridShape":
+        dim = grid_dimension(num_particles) if pairs else 1
+        cells = dim ** 3
+        return cls(dim, cells, max(1, (cells + CHUNK - 1) // CHUNK))
 
-        @ti.func
-        def cell_index(ix, iy, iz):
-            return ((iz & mask) * D + (iy & mask)) * D + (ix & mask)
 
-        @ti.func
-        def clear_cell(c):
-            count[c] = 0
+@ti.func
+def cell_coords(s: ti.template(), p):
+    """Integer cell coordinates (unwrapped) of a world point."""
+    return ti.floor(p * s.grid_inv_cell[0], ti.i32)
 
-        @ti.func
-        def insert(i, p):
-            """Record particle i at p in its cell (atomic: particles run in parallel)."""
-            g = cell_coords(p)
-            c = cell_index(g[0], g[1], g[2])
-            cell_of[i] = c
-            ti.atomic_add(count[c], 1)
 
-        @ti.func
-        def open_cell(c):
-            cursor[c] = start[c]
+@ti.func
+def cell_index(s: ti.template(), ix, iy, iz):
+    D = s.grid_dims[0]
+    mask = D - 1
+    return ((iz & mask) * D + (iy & mask)) * D + (ix & mask)
 
-        @ti.func
-        def scatter(i):
-            slot = ti.atomic_add(cursor[cell_of[i]], 1)
-            order[slot] = i
 
-        @ti.func
-        def sort_cell(c):
-            """Insertion sort of one cell's particles by index (cells hold a few particles)."""
-            lo, hi = start[c], start[c + 1]
-            for a in range(lo + 1, hi):
-                value = order[a]
-                k = a - 1
-                while k >= lo and order[k] > value:
-                    order[k + 1] = order[k]
-                    k -= 1
-                order[k + 1] = value
+@ti.func
+def count_particle(s: ti.template(), state: ti.template(), i):
+    """Record slot i in its cell (atomic: particles may run in parallel)."""
+    g = cell_coords(s, state.particle_x[i])
+    c = cell_index(s, g[0], g[1], g[2])
+    s.particle_cell[i] = c
+    ti.atomic_add(s.cell_count[c], 1)
 
-        @ti.func
-        def row_range(ix, iy, iz, part):
-            """The ``part``-th range of sorted_particle holding row (iy, iz)'s cells ix-1..ix+1:
-            one range (part 0) where the row does not wrap, else one per cell (parts 0..2)."""
-            lo, hi = 0, 0
-            x = ix & mask
-            if 1 <= x and x <= D - 2:
-                if part == 0:
-                    c = cell_index(ix, iy, iz)
-                    lo, hi = start[c - 1], start[c + 2]
-            else:
-                c = cell_index(ix - 1 + part, iy, iz)
-                lo, hi = start[c], start[c + 1]
-            return lo, hi
 
-        self.cell_coords, self.cell_index, self.clear_cell, self.insert = cell_coords, cell_index, clear_cell, insert
-        self.open_cell, self.scatter, self.sort_cell, self.row_range = open_cell, scatter, sort_cell, row_range
+@ti.func
+def scatter_particle(s: ti.template(), i):
+    slot = ti.atomic_add(s.cell_cursor[s.particle_cell[i]], 1)
+    s.sorted_particle[slot] = i
+
+
+@ti.func
+def sort_cell(s: ti.template(), c):
+    """Insertion sort of one cell's slots (cells hold a few particles)."""
+    lo, hi = s.cell_start[c], s.cell_start[c + 1]
+    for a in range(lo + 1, hi):
+        value = s.sorted_particle[a]
+        k = a - 1
+        while k >= lo and s.sorted_particle[k] > value:
+            s.sorted_particle[k + 1] = s.sorted_particle[k]
+            k -= 1
+        s.sorted_particle[k + 1] = value
+
+
+@ti.func
+def build_grid_serial(s: ti.template(), state: ti.template(), enabled):
+    """The whole build on one thread: scattering in slot order leaves every cell sorted.
+    ``enabled`` 0 (no pairs) makes every loop empty."""
+    C, N = s.grid_dims[1] * enabled, state.particle_x.shape[0] * enabled
+    for c in range(C):
+        s.cell_count[c] = 0
+    for i in range(N):
+        count_particle(s, state, i)
+    scan_serial(s.cell_count, s.cell_start, C)
+    for c in range(C):
+        s.cell_cursor[c] = s.cell_start[c]
+    for i in range(N):
+        scatter_particle(s, i)
+
+
+@ti.func
+def build_grid_parallel(s: ti.template(), state: ti.template(), enabled):
+    """The build as top-level loops of a kernel (each runs in parallel), then each cell sorted.
+    ``enabled`` 0 (no pairs) makes every loop empty (a top-level ``if`` would make them serial)."""
+    C, N = s.grid_dims[1] * enabled, state.particle_x.shape[0] * enabled
+    for c in range(C):
+        s.cell_count[c] = 0
+    for i in range(N):
+        count_particle(s, state, i)
+    scan_parallel(s.cell_count, s.cell_start, s.chunk_total, C, s.grid_dims[2] * enabled)
+    for c in range(C):
+        s.cell_cursor[c] = s.cell_start[c]
+    for i in range(N):
+        scatter_particle(s, i)
+    for c in range(C):
+        sort_cell(s, c)
+
+
+@ti.func
+def row_range(s: ti.template(), ix, iy, iz, part):
+    """The ``part``-th range of sorted_particle holding row (iy, iz)'s cells ix-1..ix+1: one range
+    (part 0) where the row does not wrap, else one per cell (parts 0..2)."""
+    D = s.grid_dims[0]
+    lo, hi = 0, 0
+    x = ix & (D - 1)
+    if 1 <= x and x <= D - 2:
+        if part == 0:
+            c = cell_index(s, ix, iy, iz)
+            lo, hi = s.cell_start[c - 1], s.cell_start[c + 2]
+    else:
+        c = cell_index(s, ix - 1 + part, iy, iz)
+        lo, hi = s.cell_start[c], s.cell_start[c + 1]
+    return lo, hi

@@ -1,28 +1,44 @@
-"""Static data of the bodies: everything that does not change during a run.
+"""Static data of the bodies: everything that does not change during a run (Warp's ``Model``).
 
-Like Warp's ``Model`` (and MuJoCo's mjModel): built once from the particles,
-read by every substep, never written by it. B bodies and N particles live in
-one flat array with a body index:
+Built once from the bodies' particles, read by every substep, never written by it.
+B bodies, N particles, K blocks; the particles of all bodies live in one flat array,
+body by body, and inside a body in blocks (``blocks.py``: spatially compact runs of at
+most 64 particles, sorted along a Z-order curve). Device arrays (Taichi ndarrays; float
+is the run's precision, f32 or f64), all read-only during a run:
 
-- ``r0``            [N] vec3   particle offset from its body's centre of mass, body frame
-- ``particle_body`` [N] i32    index of the body a particle belongs to
-- ``body_start``, ``body_count`` [B] i32  the body's particles are r0[start : start + count]
-- ``particle_mass`` [B] float  mass of each of the body's particles (all equal)
-- ``particle_radius`` [B] float  collision radius of the body's particles against other bodies
-- ``body_mass``     [B] float  M = Σ m
-- ``inertia_body``  [B] mat3   I0 about the centre of mass, body frame (from TODO 1)
-- ``inertia_body_inv`` [B] mat3  I0⁻¹ (zero where TODO 1 gave a singular I0)
-- ``surface_r0``    [V] vec3   the drawn meshes' vertices, each in its body's frame
-- ``surface_body``  [V] i32    the body a drawn vertex belongs to
-- ``indices``       [3F] i32   triangle indices into surface_r0, flat, for GGUI
-Host copies (float64 numpy) keep what the exporters and diagnostics need.
+- ``r0``                 [N] vec3   particle offset from its body's centre of mass, body frame
+- ``r0_soa``             [3, N] float  the same, as rows x, y, z (for vectorised loops)
+- ``particle_body``      [N] i32    body of each particle
+- ``body_start``, ``body_count``  [B] i32   body b's particles are slots start .. start + count − 1
+- ``particle_mass``      [B] float  mass of each of the body's particles (all equal), kg
+- ``particle_radius``    [B] float  collision radius of the body's particles, m (0: the particle centre)
+- ``body_mass``          [B] float  M = Σ m, kg
+- ``inertia_body``       [B] mat3   I0 about the centre of mass, body frame (from TODO 1), kg m²
+- ``inertia_body_inv``   [B] mat3   I0⁻¹ (zero where TODO 1 gave a singular I0)
+- ``block_start``, ``block_count``, ``block_body``  [K] i32   block k: its particle slots and body
+- ``block_centre``       [K] vec3   centre of the block's particles' bounding sphere, body frame
+- ``block_reach``        [K] float  that sphere's radius plus the particle radius, m
+- ``body_block_start``, ``body_block_count``  [B] i32  body b's blocks, consecutive
+
+The drawn meshes (``surface``, for windows, videos and exports) are not read by a substep:
+``surface_r0`` [V] vec3 (body frame about the centre of mass), ``surface_body`` [V] i32 and
+``indices`` (host (F, 3) triangles). Host copies (float64 numpy, ``*_np``) serve the
+exporters and diagnostics (``inertia_body_np`` (B, 3, 3), ``body_mass_np`` (B,), ...); ``slot_of`` maps a particle's index in its mesh file order (body
+by body) to its slot, ``order`` the other way round.
+
+A Model is passed to the kernels as one argument pack (``args``): kernels are compiled once
+per process and run on any Model (rigid.engine.kernels).
 """
+from __future__ import annotations
 
 import sys
 from dataclasses import dataclass
 
 import numpy as np
 import taichi as ti
+
+from .arrays import ModelArgs, SurfaceArgs, device_array, float_dtype
+from .blocks import block_layout, block_size_for
 
 
 @dataclass
@@ -38,82 +54,88 @@ class BodyParts:
 
 
 class Model:
-    def __init__(self, bodies: list[BodyParts], units):
+    def __init__(self, bodies: list[BodyParts], kernels):
+        """``kernels``: the process's compiled kernels for the run's TODO units (kernels.py);
+        TODO 1 gives I0."""
         bodies = list(bodies)
         self.num_bodies = B = len(bodies)
         counts = np.array([len(b.particles) for b in bodies])
-        surface_counts = np.array([len(b.surface) for b in bodies])
-        self.num_particles, self.num_surface = n, v = int(counts.sum()), int(surface_counts.sum())
-        starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
-        surface_starts = np.concatenate([[0], np.cumsum(surface_counts)[:-1]])
+        self.num_particles = int(counts.sum())
+        starts = np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(np.int64)
         # The centre of mass in float64 on the host: x = Σ m r / M (equal masses).
         coms = np.array([np.asarray(b.particles, np.float64).mean(axis=0) for b in bodies])
-        self.center_of_mass = coms[0]
-        self.r0_np = np.concatenate([np.asarray(b.particles, np.float64) - c for b, c in zip(bodies, coms)])
-        self.surfaces_np = [np.asarray(b.surface, np.float64).reshape(-1, 3) - c for b, c in zip(bodies, coms)]
-        self.faces_list = [np.asarray(b.faces, np.int32).reshape(-1, 3) for b in bodies]
+        r0_file = np.concatenate([np.asarray(b.particles, np.float64) - c for b, c in zip(bodies, coms)])
+        self.center_of_mass_np = coms  # (B, 3): each body's centre of mass in its mesh frame
         self.body_names = [b.name for b in bodies]
         self.body_mass_np = np.array([b.particle_mass * c for b, c in zip(bodies, counts)], np.float64)
-        self.mass = float(self.body_mass_np[0]) if B == 1 else float(self.body_mass_np.sum())
+        self.particle_mass_np = np.array([b.particle_mass for b in bodies], np.float64)
         self.radius_np = np.array([b.radius for b in bodies], np.float64)
+        self.body_start_np, self.body_count_np = starts, counts
 
-        self.r0 = ti.Vector.field(3, float, shape=n)
-        self.particle_body = ti.field(ti.i32, shape=n)
-        self.body_start = ti.field(ti.i32, shape=B)
-        self.body_count = ti.field(ti.i32, shape=B)
-        self.particle_mass = ti.field(float, shape=B)
-        self.particle_radius = ti.field(float, shape=B)
-        self.body_mass = ti.field(float, shape=B)
-        self.inertia_body = ti.Matrix.field(3, 3, float, shape=B)
-        self.inertia_body_inv = ti.Matrix.field(3, 3, float, shape=B)
-        self.surface_r0 = ti.Vector.field(3, float, shape=max(v, 1))
-        self.surface_body = ti.field(ti.i32, shape=max(v, 1))
+        layout = block_layout(r0_file, starts, counts, block_size_for(int(counts.max())), self.radius_np)
+        self.order = layout["order"]  # slot -> index in file order
+        self.slot_of = np.empty_like(self.order)
+        self.slot_of[self.order] = np.arange(len(self.order))
+        self.r0_np = r0_file[self.order]  # in slot order
+        self.num_blocks = len(layout["block_start"])
+        particle_body = np.repeat(np.arange(B), counts)
+
+        self.r0 = device_array(self.r0_np, 3)
+        # The same offsets as three rows x, y, z (structure of arrays): the block loop loads 8 x,
+        # 8 y, 8 z at once when LLVM vectorises it.
+        self.r0_soa = ti.ndarray(float_dtype(), (3, self.num_particles))
+        self.r0_soa.from_numpy(np.ascontiguousarray(self.r0_np.T, dtype=_host_float()))
+        self.particle_body = device_array(particle_body, dtype=ti.i32)
+        self.body_start = device_array(starts, dtype=ti.i32)
+        self.body_count = device_array(counts, dtype=ti.i32)
+        self.particle_mass = device_array(self.particle_mass_np)
+        self.particle_radius = device_array(self.radius_np)
+        self.body_mass = device_array(self.body_mass_np)
+        self.inertia_body = ti.ndarray(ti.types.matrix(3, 3, float_dtype()), B)
+        self.inertia_body_inv = ti.ndarray(ti.types.matrix(3, 3, float_dtype()), B)
+        for name in ("block_start", "block_count", "block_body", "body_block_start", "body_block_count"):
+            setattr(self, name, device_array(layout[name], dtype=ti.i32))
+        self.block_centre = device_array(layout["block_centre"], 3)
+        # Rounded up, so that the float copy never under-covers its block.
+        reach = layout["block_reach"].astype(np.float64)
+        self.block_reach = device_array(np.nextafter(reach.astype(_host_float()), np.inf))
+
+        self._surfaces(bodies, coms)
+        self.args = ModelArgs()(**{name: getattr(self, name) for name in ModelArgs.NAMES})
+        kernels.sum_inertia(self.args)
+        self._invert_inertia()
+
+    @property
+    def mass(self) -> float:
+        """Total mass of the scene, kg (one body: its M)."""
+        return float(self.body_mass_np.sum())
+
+    def _surfaces(self, bodies, coms):
+        surface_counts = np.array([len(b.surface) for b in bodies])
+        self.num_surface = int(surface_counts.sum())
+        self.surfaces_np = [np.asarray(b.surface, np.float64).reshape(-1, 3) - c for b, c in zip(bodies, coms)]
+        self.faces_list = [np.asarray(b.faces, np.int32).reshape(-1, 3) for b in bodies]
+        surface_starts = np.concatenate([[0], np.cumsum(surface_counts)[:-1]])
         faces = [f + s for f, s in zip(self.faces_list, surface_starts)]
-        all_faces = np.concatenate(faces) if faces else np.zeros((0, 3), np.int32)
-        self.num_faces = len(all_faces)
-        self.indices = ti.field(ti.i32, shape=max(3 * self.num_faces, 3))
-
-        _load(self.r0, self.r0_np)
-        self.particle_body.from_numpy(np.repeat(np.arange(B, dtype=np.int32), counts))
-        self.body_start.from_numpy(starts.astype(np.int32))
-        self.body_count.from_numpy(counts.astype(np.int32))
-        _load(self.particle_mass, np.array([b.particle_mass for b in bodies], np.float64))
-        _load(self.particle_radius, self.radius_np)
-        _load(self.body_mass, self.body_mass_np)
-        if v:
-            _load(self.surface_r0, np.concatenate(self.surfaces_np))
-            self.surface_body.from_numpy(np.repeat(np.arange(B, dtype=np.int32), surface_counts))
-        if self.num_faces:
-            self.indices.from_numpy(all_faces.astype(np.int32).reshape(-1))
-        self._compute_inertia(units)
+        self.faces_np = np.concatenate(faces).astype(np.int32) if faces else np.zeros((0, 3), np.int32)
+        self.num_faces = len(self.faces_np)
+        self.surface_body_np = np.repeat(np.arange(self.num_bodies), surface_counts)
+        surface = np.concatenate(self.surfaces_np) if self.num_surface else np.zeros((1, 3))
+        self.surface_r0 = device_array(surface, 3)
+        self.surface_body = device_array(self.surface_body_np if self.num_surface else np.zeros(1), dtype=ti.i32)
+        self.surface_args = SurfaceArgs()(surface_r0=self.surface_r0, surface_body=self.surface_body)
 
     def body_surfaces(self) -> list:
         """Per body: (name, drawn vertices (V, 3) float64 in the body frame about its centre of
         mass, triangles (F, 3) int32 into those vertices). Exporters (glTF, USD) write these."""
         return list(zip(self.body_names, self.surfaces_np, self.faces_list))
 
-    def _compute_inertia(self, units):
-        """I0 = Σ TODO1(m, r0ᵢ) per body, summed in a fixed (serial) order; I0⁻¹ on the host in float64."""
-        r0, mass, inertia = self.r0, self.particle_mass, self.inertia_body
-        start, count = self.body_start, self.body_count
-        particle_inertia = units.particle_inertia
-
-        @ti.kernel
-        def sum_inertia(num_bodies: ti.i32):
-            ti.loop_config(serialize=True)
-            for b in range(num_bodies):
-                total = ti.Matrix.zero(float, 3, 3)
-                for i in range(start[b], start[b] + count[b]):
-                    total += particle_inertia(mass[b], r0[i])
-                inertia[b] = total
-
-        sum_inertia(self.num_bodies)
-        inertia_np = self.inertia_body.to_numpy().astype(np.float64)
-        self.inertia_body_np = inertia_np[0]
-        self.inertia_all_np = inertia_np
-        inverse = np.zeros_like(inertia_np)
+    def _invert_inertia(self):
+        """I0⁻¹ on the host in float64 (a singular I0, e.g. TODO 1 unsolved, gets zero)."""
+        self.inertia_body_np = inertia = self.inertia_body.to_numpy().astype(np.float64).reshape(-1, 3, 3)
+        inverse = np.zeros_like(inertia)
         singular = False
-        for b, tensor in enumerate(inertia_np):
+        for b, tensor in enumerate(inertia):
             if np.all(np.isfinite(tensor)) and np.linalg.cond(tensor) < 1e12:
                 inverse[b] = np.linalg.inv(tensor)
             else:
@@ -121,10 +143,9 @@ class Model:
         if singular:
             print("warning: TODO 1 gives a singular inertia tensor; the body will not rotate "
                   "until TODO 1 is solved", file=sys.stderr)
-        self.inertia_body_inv_np = inverse[0]
-        _load(self.inertia_body_inv, inverse)
+        self.inertia_body_inv_np = inverse
+        self.inertia_body_inv.from_numpy(inverse.astype(_host_float()))
 
 
-def _load(field, array: np.ndarray) -> None:
-    """Copy a float64 host array into a field of the run's precision (f32 or f64)."""
-    field.from_numpy(np.ascontiguousarray(array, dtype=np.float64 if field.dtype == ti.f64 else np.float32))
+def _host_float():
+    return np.float64 if float_dtype() == ti.f64 else np.float32

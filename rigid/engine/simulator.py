@@ -1,106 +1,140 @@
-"""The facade a script, a window or a test drives: build, reset, step, read.
+"""The facade a script, a window, a notebook or a test drives: build, reset, step, read.
 
-    sim = Simulator(config, units)      # after ti.init (see rigid.runtime.init_taichi)
-    sim.step_frame()                    # 1/60 s: config.substeps substeps, one launch
-    block = sim.advance_frames(100)     # 100 frames in one launch, a row per frame (frame_rows.py)
-    snap = sim.snapshot()               # host copy of the body state (float64 numpy)
+    sim = Simulator(config, units)      # after ti.init (rigid.init)
+    sim.step_frame()                    # 1/60 s: config.substeps substeps
+    block = sim.advance_frames(100)     # 100 frames and a row per frame (rows.py)
+    snap = sim.snapshot()               # host copy of the bodies' state (float64 numpy)
 
-One body (no ``[[body]]`` tables, or one without copies) runs the classic path
-(integrate.py: the assignment's single body, serial, block-culled walls); a scene
-with several bodies runs the many-body pipeline (world.py: grid, pair contact).
+Every scene, one body or many, runs the same pipeline (stages.py) with kernels compiled
+once per process (kernels.py): a Simulator only allocates its arrays. Shapes in the API are
+per body, always: ``x`` (B, 3), ``q`` (B, 4), ...; a block of frames adds a leading frame
+axis. (The NPZ export keeps one body's rows as (F, 3): rigid.run.diagnostics.)
 """
 from __future__ import annotations
 
 import numpy as np
+import taichi as ti
 
-from ..bodies.mesh import BodyGeometry, body_geometry
+from ..bodies.mesh import BodyGeometry
 from ..bodies.placement import BodySpec, check_inside_box, scene_bodies
-from .frame_rows import FrameRows, split_rows
-from .integrate import Integrator
+from .arrays import ScratchArgs, device_array, zeros
+from .grid import GridShape
+from .kernels import engine_kernels
 from .model import BodyParts, Model
+from .rows import FrameRows, split_rows
+from .schedule import choose_schedule
 from .state import Params, State
 from .units import check_units
 
 
 class Simulator:
-    def __init__(self, config, units, geometry: BodyGeometry | None = None,
-                 bodies: list[BodySpec] | None = None):
-        """Build from config (meshes, scales, particles), or from a ready BodyGeometry (one body)
-        or list of BodySpec (many bodies, see rigid.bodies.placement)."""
-        check_units(units)
-        self.config = config
-        self.many = config.many_bodies or (bodies is not None and len(bodies) > 1)
-        if self.many:
-            self.bodies = scene_bodies(config) if bodies is None else bodies
-            self._bodies_from_config = bodies is None
-            if config.walls:
-                check_inside_box(self.bodies, config.floor, config.wall, use_radius=True)
-            parts = [BodyParts(b.geometry.particles, b.geometry.vertices, b.geometry.faces, b.particle_mass,
-                               b.radius, b.name) for b in self.bodies]
-        else:
-            self.bodies = None
-            body = config.body_config(0)
-            g = body_geometry(body) if geometry is None else geometry
-            parts = [BodyParts(g.particles, g.vertices, g.faces, body.particle_mass)]
-        self.model = Model(parts, units)
-        self.state = State(self.model.num_bodies, self.model.num_particles, self.model.num_surface)
-        self.params = Params(config)
-        self.rows = FrameRows(self.model.num_bodies)
-        if self.many:
-            from .world import WorldIntegrator
+    def __init__(self, config, units=None, geometry: BodyGeometry | None = None,
+                 bodies: list[BodySpec] | None = None, schedule: str | None = None):
+        """Build from ``config`` (meshes, scales, particles; rigid.config.SimConfig), or from a
+        ready ``geometry`` (one body at the config's pose) or list of ``bodies``
+        (rigid.bodies.placement.BodySpec). ``units``: the 7 TODO ``ti.func``s (default: the
+        repository's solved rigid_body_dynamic.py). ``schedule``: "serial" or "parallel"
+        (default: schedule.py chooses)."""
+        if units is None:
+            from .units import default_units
 
-            self.integrator = WorldIntegrator(self.model, self.state, self.params, units, config.integrator,
-                                              rows=self.rows)
-        else:
-            self.integrator = Integrator(self.model, self.state, self.params, units, config.integrator,
-                                         rows=self.rows)
+            units = default_units()
+        check_units(units)
+        self.config, self.units = config, units
+        self._bodies_from_config = bodies is None and geometry is None
+        if geometry is not None:
+            bodies = [BodySpec("body", geometry, config.particle_mass, config.particle_radius or 0.0,
+                               np.asarray(config.position, float), np.asarray(config.orientation, float),
+                               np.asarray(config.initial_velocity, float),
+                               np.asarray(config.initial_angular_velocity, float))]
+        self.bodies = scene_bodies(config) if bodies is None else list(bodies)
+        if config.walls:
+            check_inside_box(self.bodies, config.floor, config.wall, use_radius=True)
+        self.kernels = engine_kernels(units, config.integrator)
+        parts = [BodyParts(b.geometry.particles, b.geometry.vertices, b.geometry.faces, b.particle_mass,
+                           b.radius, b.name) for b in self.bodies]
+        self.model = Model(parts, self.kernels)
+        B, N = self.model.num_bodies, self.model.num_particles
+        pairs = B > 1
+        self.state = State(B, N)
+        self.params = Params(config, pairs)
+        self.rows = FrameRows(B)
+        self._scratch(B, N, pairs)
+        self.schedule = choose_schedule(N, pairs, schedule)
+        self._surface_out = np.empty((max(self.model.num_surface, 1), 3),
+                                     np.float64 if self.rows.body.dtype.to_string() == "f64" else np.float32)
         self.reset()
-        self.snapshot()  # compile the read-back kernels now, not in the middle of a run
+
+    def _scratch(self, B: int, N: int, pairs: bool):
+        """The arrays a substep rewrites (forces, partial sums, the grid, RK4)."""
+        shape = GridShape.for_particles(N, pairs)
+        cell = 2.0 * max(float(self.model.radius_np.max()), 1e-6)
+        arrays = dict(particle_f=zeros(N, "v3"), particle_couple=zeros(N, "v3"), particle_energy=zeros(N),
+                      partial_F=zeros(self.model.num_blocks, "v3"), partial_tau=zeros(self.model.num_blocks, "v3"),
+                      cell_count=zeros(shape.num_cells, "i"), cell_start=zeros(shape.num_cells + 1, "i"),
+                      cell_cursor=zeros(shape.num_cells, "i"), particle_cell=zeros(N, "i"),
+                      sorted_particle=zeros(N, "i"), chunk_total=zeros(shape.num_chunks + 1, "i"),
+                      grid_dims=device_array(np.array([shape.dim, shape.num_cells, shape.num_chunks]), dtype=ti.i32),
+                      grid_inv_cell=device_array(np.array([1.0 / cell])),
+                      rk_base=zeros(B, "v13"), rk_step=zeros(B, "v13"), rk_sum=zeros(B, "v13"))
+        self.grid_shape, self.cell_size = shape, cell
+        self._scratch_arrays = arrays
+        self.scratch = ScratchArgs()(**{name: arrays[name] for name in ScratchArgs.NAMES})
+
+    # -- sizes ------------------------------------------------------------------------------
+    @property
+    def num_bodies(self) -> int:
+        return self.model.num_bodies
+
+    @property
+    def num_particles(self) -> int:
+        return self.model.num_particles
+
+    @property
+    def many(self) -> bool:
+        """Whether bodies collide with one another (B > 1)."""
+        return self.model.num_bodies > 1
 
     @property
     def substeps(self) -> int:
-        """Substeps per frame for the current Δt (the GUI may change Δt)."""
-        return self._frame_steps()[1]
+        """Substeps per frame for the current Δt (a window's slider may change Δt)."""
+        return max(1, int((1.0 / 60.0) // self.params.dt))
 
-    def _frame_steps(self) -> tuple[float, int]:
-        """(Δt, substeps per 1/60 s frame); Δt read once (each read costs ~5 µs)."""
-        dt = float(self.params.dt[None])
-        return dt, max(1, int((1.0 / 60.0) // dt))
-
+    # -- state ------------------------------------------------------------------------------
     def reset(self):
-        """Back to the initial state of the config; the model is kept (no mesh reload)."""
+        """Back to the initial state of the bodies; the model is kept (no mesh reload)."""
         self.time = 0.0
         self.frame = 0
-        if self.many:
-            b = self.bodies
-            self.integrator.init_state(*(np.array([getattr(body, key) for body in b], np.float64)
-                                         for key in ("position", "orientation", "velocity", "angular_velocity")))
-        else:
-            c = self.config.body_config(0)
-            self.integrator.init_state(c.position, c.orientation, c.initial_velocity, c.initial_angular_velocity)
+        b = self.bodies
+        self.kernels.init_bodies(self.model.args, self.state.args,
+                                 *(np.array([getattr(body, key) for body in b], np.float64)
+                                   for key in ("position", "orientation", "velocity", "angular_velocity")))
 
-    # Changing these needs no new model and no recompile: they live in 0-d fields.
+    # Changing these needs no new model: they are runtime parameters or initial conditions.
     RUNTIME_KEYS = frozenset(Params.NAMES) | {"gravity", "walls", "position", "initial_velocity",
                                                "initial_angular_velocity", "frames", "seed"}
+    PLACEMENT_KEYS = frozenset({"position", "initial_velocity", "initial_angular_velocity", "seed"})
 
     def reconfigure(self, **changes):
-        """Change runtime parameters and initial conditions, then reset (no recompile)."""
+        """Change runtime parameters and initial conditions, then reset (nothing recompiles)."""
         fixed = sorted(set(changes) - self.RUNTIME_KEYS)
         if fixed:
-            raise ValueError(f"{fixed} need a new Simulator (they change the model or the kernels)")
+            raise ValueError(f"{fixed} need a new Simulator (they change the model)")
         self.config = self.config.replace(**changes).validate()
         self.params.load(self.config)
-        if self.many and set(changes) & self.PLACEMENT_KEYS:
+        if set(changes) & self.PLACEMENT_KEYS:
             self._place_again()
         self.reset()
         return self
 
-    PLACEMENT_KEYS = frozenset({"position", "initial_velocity", "initial_angular_velocity", "seed"})
-
     def _place_again(self):
-        """Many bodies start from their BodySpecs: place them again from the changed config
-        (the same meshes, so the model and kernels stay)."""
+        """Place the bodies again from the changed config (the same meshes, so the model stays)."""
         if not self._bodies_from_config:
+            if len(self.bodies) == 1:  # one body from a geometry: move it
+                c, body = self.config, self.bodies[0]
+                body.position, body.velocity = np.asarray(c.position, float), np.asarray(c.initial_velocity, float)
+                body.angular_velocity = np.asarray(c.initial_angular_velocity, float)
+                return
             raise ValueError("this Simulator was built from a list of bodies: build a new one to move them")
         bodies = scene_bodies(self.config)
         if [len(b.geometry.particles) for b in bodies] != [len(b.geometry.particles) for b in self.bodies]:
@@ -109,67 +143,95 @@ class Simulator:
             check_inside_box(bodies, self.config.floor, self.config.wall, use_radius=True)
         self.bodies = bodies
 
+    # -- stepping ---------------------------------------------------------------------------
     def step_frame(self, substeps: int | None = None):
-        """One frame (1/60 s, or ``substeps`` substeps); nothing is read back."""
-        dt, n = self._frame_steps()
-        n = n if substeps is None else substeps
-        self.integrator.advance(n)
-        self.time += n * dt
+        """One frame (1/60 s, or ``substeps`` substeps); its row is kept on the device."""
+        n = self.substeps if substeps is None else int(substeps)
+        self._run(1, n)
+        self.time += n * self.params.dt
         self.frame += 1
 
     def advance_frames(self, frames: int) -> dict:
-        """``frames`` frames in one launch (at most ``self.rows.capacity``), and the row of each:
-        a block, the snapshot's keys with a leading frame axis (``t`` (frames,), ``x`` (frames, 3)
-        for one body or (frames, B, 3) for many, ...)."""
-        if not 1 <= frames <= self.rows.capacity:
-            raise ValueError(f"frames = {frames}: one launch runs 1 to {self.rows.capacity} frames")
-        dt, n = self._frame_steps()
-        self.integrator.advance_recorded(n, frames)
-        times = []
-        for _ in range(frames):  # the same sums as frame by frame: t is bit-identical
-            self.time += n * dt
-            times.append(self.time)
-        self.frame += frames
-        return self._block(times)
+        """``frames`` frames and the row of each: a block, the snapshot's keys with a leading
+        frame axis (``t`` (frames,), ``x`` (frames, B, 3), ...). Runs in chunks of
+        ``rows.capacity`` frames, one launch each on the serial schedule."""
+        if frames < 1:
+            raise ValueError(f"frames = {frames}: advance at least one frame")
+        blocks = []
+        done = 0
+        while done < frames:
+            k = min(self.rows.capacity, frames - done)
+            n, dt = self.substeps, self.params.dt
+            self._run(k, n)
+            times = []
+            for _ in range(k):  # the same sums as frame by frame: t is bit-identical
+                self.time += n * dt
+                times.append(self.time)
+            self.frame += k
+            blocks.append(self._block(times))
+            done += k
+        if len(blocks) == 1:
+            return blocks[0]
+        return {key: np.concatenate([b[key] for b in blocks]) for key in blocks[0]}
+
+    def _run(self, frames: int, substeps: int):
+        """``frames`` frames of ``substeps`` substeps, rows 0 .. frames − 1 written."""
+        k, m, s, w, c, r = self.kernels, self.model.args, self.state.args, self.params.args, self.scratch, self.rows.args
+        if self.schedule == "serial":
+            k.run_frames(m, s, w, c, r, frames, substeps)
+            return
+        for frame in range(frames):
+            for _ in range(substeps):
+                k.substep(m, s, w, c)
+            k.finish_frame(m, s, w, c, r, frame)
 
     def apply_impulse(self, particle: int, impulse):
-        """Hit particle ``particle`` with impulse J (N s, world frame): ΔP = J, ΔL = r × J."""
+        """Hit particle ``particle`` (its index in the mesh files' order, body after body) with
+        impulse J (N s, world frame): ΔP = J, ΔL = r × J."""
         if not 0 <= particle < self.model.num_particles:
             raise IndexError(f"particle {particle} out of range 0..{self.model.num_particles - 1}")
-        self.integrator.apply_impulse(int(particle), [float(c) for c in impulse])
+        slot = int(self.model.slot_of[particle])
+        self.kernels.apply_impulse(self.model.args, self.state.args, slot, [float(c) for c in impulse])
 
+    # -- reading ----------------------------------------------------------------------------
     def snapshot(self) -> dict:
-        """The state and energies as float64 numpy: one row of the NPZ export. One body: its
-        vectors (3,) and (4,); many: (B, 3) and (B, 4). Energies are totals."""
+        """The state and energies as float64 numpy: ``t``; per body ``x`` (B, 3), ``q`` (B, 4),
+        ``v``, ``omega``, ``P``, ``L`` (B, 3); ``kinetic_energy``, ``potential_energy`` totals."""
         row = {key: value[0] for key, value in self.current_block().items()}
         row["t"] = float(row["t"])
         return row
 
     def current_block(self) -> dict:
         """The current state as a block of one frame (see ``advance_frames``)."""
-        self.rows.rewind()
-        self.integrator.record()
+        k = self.kernels
+        k.finish_frame(self.model.args, self.state.args, self.params.args, self.scratch, self.rows.args, 0)
         return self._block([self.time])
+
+    def particle_positions(self) -> np.ndarray:
+        """(N, 3) float64 world positions of the particles, in the mesh files' order."""
+        return self.state.particle_x.to_numpy().astype(np.float64)[self.model.slot_of]
+
+    def particle_velocities(self) -> np.ndarray:
+        """(N, 3) float64 world velocities of the particles, in the mesh files' order."""
+        return self.state.particle_v.to_numpy().astype(np.float64)[self.model.slot_of]
+
+    def particle_bodies(self) -> np.ndarray:
+        """(N,) the body of each particle, in the mesh files' order."""
+        return np.repeat(np.arange(self.model.num_bodies), self.model.body_count_np)
+
+    def surface_positions(self) -> np.ndarray:
+        """(V, 3) world positions of the drawn meshes' vertices (float of the run's precision)."""
+        self.kernels.place_surfaces(self.state.args, self.model.surface_args, self._surface_out)
+        return self._surface_out
 
     def _block(self, times: list) -> dict:
         """The rows of the last launch, with the energies (float64, computed here, the same way for
         every block: kinetic ½ P·v + ½ L·ω, potential −M g·x + the contact springs')."""
-        body, contact = self.rows.read(len(times))
+        body, contact = self.rows.read(len(times), self.kernels)
         rows = split_rows(body)
-        if not self.many:  # one body: (k, 3) vectors, not (k, 1, 3)
-            rows = {key: value[:, 0] for key, value in rows.items()}
-        g = np.asarray(self.params.gravity[None].to_numpy(), dtype=np.float64)
+        g = self.params.gravity
         P, v, L, omega, x = rows["P"], rows["v"], rows["L"], rows["omega"], rows["x"]
-        if self.many:
-            k = len(times)
-            kinetic = 0.5 * (P * v).reshape(k, -1).sum(axis=1) + 0.5 * (L * omega).reshape(k, -1).sum(axis=1)
-            potential = -((x @ g) @ self.model.body_mass_np) + contact
-        else:
-            kinetic = 0.5 * _dot3(P, v) + 0.5 * _dot3(L, omega)
-            potential = -self.model.mass * _dot3(x, g) + contact
+        k = len(times)
+        kinetic = 0.5 * (P * v).reshape(k, -1).sum(axis=1) + 0.5 * (L * omega).reshape(k, -1).sum(axis=1)
+        potential = -((x @ g) @ self.model.body_mass_np) + contact
         return dict(t=np.asarray(times, np.float64), **rows, kinetic_energy=kinetic, potential_energy=potential)
-
-
-def _dot3(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Row-wise a·b of (k, 3) arrays, summed left to right."""
-    return a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1] + a[..., 2] * b[..., 2]

@@ -1,53 +1,92 @@
-"""Per-step data: what the substeps write. Also the runtime parameters.
+"""Per-step data (``State``) and the runtime parameters (``Params``).
 
-``State`` holds, per body (shape [B]):
-- ``x``  vec3  centre of mass, world frame
+``State`` holds, per body (shape [B], world frame):
+- ``x``  vec3  centre of mass, m
 - ``q``  vec4  orientation, unit quaternion, scalar first [s, vx, vy, vz]
-- ``P``  vec3  linear momentum, world frame
-- ``L``  vec3  angular momentum about the centre of mass, world frame
+- ``P``  vec3  linear momentum, kg m/s
+- ``L``  vec3  angular momentum about the centre of mass, kg m²/s
 and the auxiliaries derived from them after every substep:
-- ``v`` = P / M, ``R`` = R(q), ``inertia_inv`` = R I0⁻¹ Rᵀ, ``omega`` = I⁻¹ L (world)
-Per particle (shape [N]): ``particle_x``, ``particle_v`` (world), and per drawn
-vertex ``surface_x`` [V]; these are written once per rendered frame, not per substep.
+- ``v`` = P / M, ``R`` = R(q) (mat3), ``inertia_inv`` = R I0⁻¹ Rᵀ (mat3), ``omega`` = I⁻¹ L (rad/s)
+Per particle slot (shape [N], world frame): ``particle_x`` = x + R r0, ``particle_v`` = v + ω × R r0,
+placed from the body state at the start of every substep and at the end of every frame.
+A reset writes the initial state into the same arrays (no new arrays, no recompile).
 
-One State lives as long as its Simulator: Taichi kernels capture fields, so a
-reset rewrites these fields rather than making new ones.
-
-``Params`` are the scalars a GUI slider may change between frames without a
-recompile (0-d fields, read by the kernels at run time).
+``Params`` are the scalars a window's slider may change between frames: Δt, the contact's
+stiffness, damping and friction, gravity, the box (floor y, walls ±x, ±z, on or off). They
+live on the host and, for the kernels, in ``WorldArgs`` (``values`` and ``planes``: the
+static colliders, the box as five planes n·p = offset with n pointing into the box).
 """
-import taichi as ti
+from __future__ import annotations
+
+import numpy as np
+
+from .arrays import StateArgs, WorldArgs, float_dtype, zeros
+
+# Slots of WorldArgs.values.
+DT, STIFFNESS, DAMPING, FRICTION, GX, GY, GZ, NUM_PLANES, PAIRS = range(9)
+NUM_VALUES = 9
+MAX_PLANES = 16
 
 
 class State:
-    def __init__(self, num_bodies: int, num_particles: int, num_surface: int):
-        self.x = ti.Vector.field(3, float, shape=num_bodies)
-        self.q = ti.Vector.field(4, float, shape=num_bodies)
-        self.P = ti.Vector.field(3, float, shape=num_bodies)
-        self.L = ti.Vector.field(3, float, shape=num_bodies)
-        self.v = ti.Vector.field(3, float, shape=num_bodies)
-        self.omega = ti.Vector.field(3, float, shape=num_bodies)
-        self.R = ti.Matrix.field(3, 3, float, shape=num_bodies)
-        self.inertia_inv = ti.Matrix.field(3, 3, float, shape=num_bodies)
-        self.particle_x = ti.Vector.field(3, float, shape=num_particles)
-        self.particle_v = ti.Vector.field(3, float, shape=num_particles)
-        self.surface_x = ti.Vector.field(3, float, shape=max(num_surface, 1))
+    def __init__(self, num_bodies: int, num_particles: int):
+        B, N = num_bodies, num_particles
+        kinds = dict(x="v3", q="v4", P="v3", L="v3", v="v3", omega="v3", R="m3", inertia_inv="m3")
+        for name, kind in kinds.items():
+            setattr(self, name, zeros(B, kind))
+        self.particle_x = zeros(N, "v3")
+        self.particle_v = zeros(N, "v3")
+        self.args = StateArgs()(**{name: getattr(self, name) for name in StateArgs.NAMES})
 
 
 class Params:
     NAMES = ("dt", "collision_stiffness", "velocity_damping_stiffness", "friction_stiffness",
              "floor", "wall")
 
-    def __init__(self, config):
-        self.gravity = ti.Vector.field(3, float, shape=())
-        self.walls = ti.field(ti.i32, shape=())
-        for name in self.NAMES:
-            setattr(self, name, ti.field(float, shape=()))
+    def __init__(self, config, pairs: bool):
+        """``pairs``: whether bodies collide with one another (B > 1)."""
+        self.values = zeros(NUM_VALUES)
+        self.planes = zeros(MAX_PLANES, "v4")
+        self.args = WorldArgs()(values=self.values, planes=self.planes)
+        self._pairs = bool(pairs)
+        self._loading = True
         self.load(config)
 
-    def load(self, config):
-        """Copy the config's runtime-adjustable values into the fields."""
-        self.gravity[None] = config.gravity
-        self.walls[None] = int(config.walls)
+    def load(self, config) -> None:
+        """Take the config's runtime values (one upload)."""
+        self._loading = True
         for name in self.NAMES:
-            getattr(self, name)[None] = getattr(config, name)
+            setattr(self, name, float(getattr(config, name)))
+        self.gravity = np.asarray(config.gravity, np.float64)
+        self.walls = bool(config.walls)
+        self._loading = False
+        self.upload()
+
+    def __setattr__(self, name, value):
+        object.__setattr__(self, name, value)
+        if name in self.NAMES or name in ("gravity", "walls"):
+            if name == "gravity":
+                object.__setattr__(self, name, np.asarray(value, np.float64).reshape(3))
+            if not getattr(self, "_loading", True):
+                self.upload()
+
+    def plane_list(self) -> np.ndarray:
+        """The static planes (n, 4): normal (into the free side) and offset n·p, in force order."""
+        if not self.walls:
+            return np.zeros((0, 4))
+        f, w = self.floor, self.wall
+        return np.array([[0, 1, 0, f], [1, 0, 0, -w], [-1, 0, 0, -w], [0, 0, 1, -w], [0, 0, -1, -w]], np.float64)
+
+    def upload(self) -> None:
+        host = np.float64 if float_dtype().to_string() == "f64" else np.float32
+        planes = self.plane_list()
+        values = np.zeros(NUM_VALUES)
+        values[[DT, STIFFNESS, DAMPING, FRICTION]] = (self.dt, self.collision_stiffness,
+                                                      self.velocity_damping_stiffness, self.friction_stiffness)
+        values[GX:GZ + 1] = self.gravity
+        values[NUM_PLANES] = len(planes)
+        values[PAIRS] = float(self._pairs)
+        self.values.from_numpy(values.astype(host))
+        padded = np.zeros((MAX_PLANES, 4))
+        padded[:len(planes)] = planes
+        self.planes.from_numpy(padded.astype(host))

@@ -35,7 +35,7 @@ def run(units) -> np.ndarray:
     for _ in range(CHECKPOINTS):
         sim.step_frame(SUBSTEPS_PER_CHECKPOINT)
         s = sim.snapshot()
-        rows.append(np.concatenate([s["x"], s["q"], s["L"]]))
+        rows.append(np.concatenate([s["x"][0], s["q"][0], s["L"][0]]))
     return np.array(rows)
 
 

@@ -22,10 +22,16 @@ class Trajectory:
     """Blocks of rows (``Simulator.advance_frames``), kept in memory until saved (~100 bytes per
     frame and body)."""
 
-    def __init__(self, mass: float, inertia_body, dt: float, substeps: int, fp64: bool):
+    def __init__(self, mass, inertia_body, dt: float, substeps: int, fp64: bool):
+        """``mass`` (B,), ``inertia_body`` (B, 3, 3); blocks of (k, B, ...) rows. With one body the
+        arrays drop the body axis (the NPZ contract: ``x`` (F, 3), ``mass`` a scalar)."""
         self.blocks: list[dict] = []
         self.num_rows = 0
         self.dtype = np.float64 if fp64 else np.float32
+        mass, inertia_body = np.asarray(mass), np.asarray(inertia_body)
+        self.one_body = mass.shape == (1,)
+        if self.one_body:
+            mass, inertia_body = mass[0], inertia_body[0]
         self.constants = dict(mass=np.asarray(mass, self.dtype),
                               inertia_body=np.asarray(inertia_body, self.dtype),
                               dt=np.asarray(dt, self.dtype), substeps=np.asarray(substeps, np.int64))
@@ -34,7 +40,10 @@ class Trajectory:
         """Keep the block's first ``rows`` rows (all if None)."""
         rows = len(block["t"]) if rows is None else rows
         if rows:
-            self.blocks.append({key: np.asarray(block[key])[:rows] for key in ROW_KEYS})
+            kept = {key: np.asarray(block[key])[:rows] for key in ROW_KEYS}
+            if self.one_body:
+                kept.update({key: kept[key][:, 0] for key in ROW_KEYS if kept[key].ndim == 3})
+            self.blocks.append(kept)
             self.num_rows += rows
 
     def arrays(self) -> dict:

@@ -58,9 +58,8 @@ def run_frames(sim, frames: int | None, export_path=None, on_frame=None) -> RunR
     with every frame simulated so far kept) is never kept waiting. Chunking never changes the
     numbers: a chunk runs the same substeps, in the same order, as frame-by-frame calls."""
     cfg = sim.config
-    m = sim.model  # many bodies: mass (B,), inertia_body (B, 3, 3); one body: (), (3, 3)
-    mass, inertia = (m.body_mass_np, m.inertia_all_np) if sim.many else (m.mass, m.inertia_body_np)
-    trajectory = Trajectory(mass, inertia, cfg.dt, sim.substeps, cfg.fp64)
+    m = sim.model  # mass (B,), inertia_body (B, 3, 3); the NPZ of one body drops the body axis
+    trajectory = Trajectory(m.body_mass_np, m.inertia_body_np, cfg.dt, sim.substeps, cfg.fp64)
     start = sim.current_block()
     trajectory.append_block(start)
     e0, bound = _baseline(sim, start)
@@ -162,5 +161,5 @@ def _sigint_between_chunks(active: bool):
 def _baseline(sim, block: dict) -> tuple[float, float]:
     """Initial energy and blow-up bound, measured from a block of one row (the current state)."""
     kinetic = float(block["kinetic_energy"][0])
-    gravity = sim.params.gravity[None].to_numpy()
+    gravity = sim.params.gravity
     return kinetic + float(block["potential_energy"][0]), energy_bound(sim.model.mass, gravity, kinetic)

@@ -42,13 +42,19 @@ class SimulatorCache:
         return self.sims[key].reconfigure(**{**reset, **runtime})
 
 
+def body_row(snapshot: dict, body: int = 0) -> dict:
+    """One body's part of a snapshot: its vectors (3,) and (4,) instead of (B, 3) and (B, 4)."""
+    return {key: (value[body] if isinstance(value, np.ndarray) and value.ndim == 2 else value)
+            for key, value in snapshot.items()}
+
+
 def record(sim, rows: int, substeps_per_row: int) -> dict:
     """Snapshots at rows + 1 times (row 0 = now), float64 arrays; adds R (3x3) and n (substeps)."""
     out = {}
     for i in range(rows + 1):
         if i:
             sim.step_frame(substeps_per_row)
-        snap = dict(sim.snapshot(), R=sim.state.R.to_numpy()[0].astype(np.float64), n=i * substeps_per_row)
+        snap = dict(body_row(sim.snapshot()), R=sim.state.R.to_numpy()[0].astype(np.float64), n=i * substeps_per_row)
         for key, value in snap.items():
             out.setdefault(key, []).append(value)
     return {key: np.asarray(value, dtype=np.float64) for key, value in out.items()}
@@ -105,9 +111,9 @@ def rotational_energy_drift(get_sim, integrator: str, dts, duration: float = 10.
     for dt in dts:
         sim = get_sim(**T_HANDLE, integrator=integrator, dt=dt, gravity=(0.0, 0.0, 0.0),
                       initial_angular_velocity=TUMBLE_W0)
-        e0 = 0.5 * sim.snapshot()["L"].dot(sim.snapshot()["omega"])
+        e0 = 0.5 * body_row(sim.snapshot())["L"].dot(body_row(sim.snapshot())["omega"])
         sim.step_frame(int(round(duration / dt)))
-        snap = sim.snapshot()
+        snap = body_row(sim.snapshot())
         drifts.append(float((0.5 * snap["L"].dot(snap["omega"]) - e0) / e0))
     return dict(dts=list(dts), drifts=drifts, ratios=[a / b for a, b in zip(drifts, drifts[1:])])
 
@@ -122,7 +128,7 @@ def accuracy(get_sim, integrator: str, dts, duration: float = 2.0, checkpoints: 
         sim = get_sim(**T_HANDLE, integrator=integrator, dt=dt, gravity=(0.0, 0.0, 0.0),
                       initial_angular_velocity=tuple(omega0))
         if w_ref is None:
-            w_ref, q_ref, _ = ref.torque_free_rotation(sim.model.inertia_body_np, omega0, times)
+            w_ref, q_ref, _ = ref.torque_free_rotation(sim.model.inertia_body_np[0], omega0, times)
         traj = record(sim, checkpoints, int(round(duration / checkpoints / dt)))
         errors_w.append(float(np.linalg.norm(traj["omega"][1:] - w_ref, axis=1).max() / np.linalg.norm(omega0)))
         errors_q.append(float(ref.quaternion_distance(traj["q"][1:], q_ref).max()))
@@ -146,10 +152,10 @@ def flip(get_sim, integrator: str = "euler", dt: float = 1e-3, omega0=FLIP_W0,
     crossings = ref.zero_crossings(traj["t"], body_omega(traj)[:, 1])
     # Two sign changes per period: the full periods are crossings[i + 2] − crossings[i].
     measured = float(np.mean(crossings[2:] - crossings[:-2])) if len(crossings) >= 3 else float("nan")
-    inertia = np.diag(sim.model.inertia_body_np)
+    inertia = np.diag(sim.model.inertia_body_np[0])
     return dict(crossings=crossings.tolist(), period=measured,
                 reference_period=ref.torque_free_period(inertia, omega0),
-                off_diagonal_inertia=float(np.abs(sim.model.inertia_body_np - np.diag(inertia)).max()))
+                off_diagonal_inertia=float(np.abs(sim.model.inertia_body_np[0] - np.diag(inertia)).max()))
 
 
 def axis_stability(get_sim, axis: int, integrator: str = "euler", dt: float = 1e-3, spin: float = 6.0,

@@ -1,7 +1,7 @@
 """The window's control panel (GGUI's imgui): readouts, sliders, buttons.
 
-Sliders write the simulator's runtime parameters (0-d fields ``sim.params.*``),
-which the frame kernel reads at every launch: a change takes effect on the next
+Sliders write the simulator's runtime parameters (``sim.params``, copied to the device
+on change), which the kernels read at every launch: a change takes effect on the next
 frame, without a recompile or a restart. A reset keeps the slider values.
 """
 from __future__ import annotations
@@ -41,7 +41,8 @@ class ControlPanel:
             w.text(f"t = {sim.time:.3f} s   frame {sim.frame}   {fps:.0f} fps")
             w.text(f"kinetic {kinetic:.4g} J   potential {potential:.4g} J")
             w.text(f"total E {kinetic + potential:.4g} J")
-            w.text(f"|P| {np.linalg.norm(snap['P']):.4g} kg m/s   |L| {np.linalg.norm(snap['L']):.4g} kg m²/s")
+            w.text(f"|P| {np.linalg.norm(snap['P'].sum(axis=0)):.4g} kg m/s   "
+                   f"|L| {np.linalg.norm(snap['L'].sum(axis=0)):.4g} kg m²/s")
             # (label, parameter, shown value = parameter x scale, slider range)
             sliders = [("dt [ms]", "dt", 1e3, 0.05, 4.0),
                        ("stiffness k", "collision_stiffness", 1.0, 0.0, 1e5),
@@ -49,11 +50,11 @@ class ControlPanel:
                        ("friction mu", "friction_stiffness", 1.0, 0.0, 1.0)]
             moved = {}
             for label, name, scale, low, high in sliders:
-                shown = float(getattr(prm, name)[None]) * scale
+                shown = float(getattr(prm, name)) * scale
                 new = w.slider_float(label, shown, low, high)
                 if _differs(new, shown):
                     moved[name] = new / scale
-            gravity = prm.gravity[None].to_numpy()
+            gravity = prm.gravity.copy()
             gravity_y = w.slider_float("gravity y", float(gravity[1]), -30.0, 0.0)
             self.wireframe = w.checkbox("wireframe", self.wireframe)
             self.paused = w.checkbox("paused (space)", self.paused)
@@ -64,10 +65,10 @@ class ControlPanel:
             if self.message:
                 w.text(self.message, color=(1.0, 0.35, 0.3))
         for name, value in moved.items():
-            getattr(prm, name)[None] = max(value, 1e-5) if name == "dt" else value
+            setattr(prm, name, max(value, 1e-5) if name == "dt" else value)
         changed = bool(moved)
         if _differs(gravity_y, gravity[1]):
-            prm.gravity[None] = (float(gravity[0]), gravity_y, float(gravity[2]))
+            prm.gravity = (float(gravity[0]), gravity_y, float(gravity[2]))
             changed = True
         pressed["params_changed"] = changed
         return pressed

@@ -1,8 +1,8 @@
 """The scene: the body's mesh, a checkered floor and the wire box (or a grid), a light, a camera.
 
-The engine never imports ``ti.ui``; this module reads the simulator's fields
-(``sim.state.surface_x`` [V] vec3 world, ``sim.model.indices`` [3F] i32) and
-owns the few fields of its own (floor tiles, box edges, grid), as Taichi's
+The engine never imports ``ti.ui``; this module copies what it draws into fields of
+its own (the meshes' world vertices from ``sim.surface_positions()``, their triangles
+from ``sim.model.faces_np``, floor tiles, box edges, grid), as Taichi's
 ``mass_spring_3d_ggui.py`` does. The picture is drawn by ``raster.Rasterizer``
 (GGUI's 3D scene grows without bound on Mesa's lavapipe: see raster.py); a
 window shows it with GGUI's ``canvas.set_image``, a recording reads it directly
@@ -51,13 +51,18 @@ class SceneRenderer:
         self.raster = Rasterizer(*size)
         self.orbit = OrbitCamera()
         self.wireframe = False
-        self._build_box(float(sim.params.floor[None]), float(sim.params.wall[None]))
+        self._build_box(float(sim.params.floor), float(sim.params.wall))
+        m = sim.model
+        self.surface = ti.Vector.field(3, ti.f32, shape=max(m.num_surface, 1))
+        self.indices = ti.field(ti.i32, shape=max(3 * m.num_faces, 3))
+        if m.num_faces:
+            self.indices.from_numpy(m.faces_np.reshape(-1).astype(np.int32))
+        self.particles = ti.Vector.field(3, ti.f32, shape=m.num_particles)
         self.vertex_colors = self.particle_colors = None
-        if getattr(sim, "many", False):  # each body its own colour (body_palette)
-            m = sim.model
+        if sim.many:  # each body its own colour (body_palette)
             palette = body_palette(m.num_bodies)
-            self.vertex_colors = _vec_field(palette[m.surface_body.to_numpy()[:max(m.num_surface, 1)]])
-            self.particle_colors = _vec_field(palette[m.particle_body.to_numpy()])
+            self.vertex_colors = _vec_field(palette[m.surface_body_np]) if m.num_surface else None
+            self.particle_colors = _vec_field(palette[sim.particle_bodies()])
 
     def _build_box(self, floor: float, wall: float) -> None:
         """Floor tiles (two triangles each, own vertices so colours stay flat) and 12 box edges."""
@@ -92,17 +97,19 @@ class SceneRenderer:
         sim, raster = self.sim, self.raster
         raster.begin(self.orbit.position(), self.orbit.target, fov_deg=self.orbit.fov, light=LIGHT,
                      ambient=AMBIENT, background=BACKGROUND)
-        if sim.params.walls[None]:
+        if sim.params.walls:
             raster.mesh(self.floor_vertices, normals=self.floor_normals, per_vertex_color=self.floor_colors,
                         two_sided=True)
             raster.lines(self.box_lines, width=2.0, color=BOX_COLOR)
         else:  # free flight: a grid on the floor plane to see motion against
             raster.lines(self.grid_lines, width=1.0, color=GRID_COLOR)
         if sim.model.num_faces:
-            raster.mesh(sim.state.surface_x, sim.model.indices, color=BODY_COLOR, two_sided=True,
+            self.surface.from_numpy(np.asarray(sim.surface_positions(), np.float32))
+            raster.mesh(self.surface, self.indices, color=BODY_COLOR, two_sided=True,
                         show_wireframe=self.wireframe, per_vertex_color=self.vertex_colors)
         else:  # a point cloud: draw the particles
-            raster.particles(sim.state.particle_x, radius=0.015, color=BODY_COLOR,
+            self.particles.from_numpy(sim.particle_positions().astype(np.float32))
+            raster.particles(self.particles, radius=0.015, color=BODY_COLOR,
                              per_vertex_color=self.particle_colors)
         raster.finish()
         if self.canvas is not None:

@@ -1,0 +1,96 @@
+"""The argument packs the kernels take: which arrays each stage may read or write.
+
+Kernels are compiled once per process and receive the data as Taichi ndarrays bundled
+in argument packs (``ti.types.argpack``), one per role, so that a new Simulator (another
+scene, other sizes) reuses them:
+
+  ModelArgs    static model data (model.py)              read-only
+  StateArgs    per-step state (state.py)                 written by every substep
+  WorldArgs    runtime parameters and static colliders   read-only (changed between frames)
+  ScratchArgs  forces, partial sums, the grid, RK4        rewritten every substep
+  RowArgs      the rows a chunk of frames writes         written once per frame
+  SurfaceArgs  the drawn meshes                          read when a frame is drawn
+
+Each member is an ndarray of an element type and a number of dimensions; the element's
+float is the run's precision, so the types are made after ``ti.init`` (and cached).
+"""
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+import taichi as ti
+
+
+def float_dtype():
+    """The run's float (ti.f32 or ti.f64), as set by ti.init."""
+    return ti.lang.impl.current_cfg().default_fp
+
+
+def _element(kind: str):
+    f = float_dtype()
+    return {"f": f, "i": ti.i32, "v3": ti.types.vector(3, f), "v4": ti.types.vector(4, f),
+            "v13": ti.types.vector(13, f), "m3": ti.types.matrix(3, 3, f)}[kind]
+
+
+def _pack_type(members: dict):
+    """A factory of the argpack type (made on first use, after ti.init) with ``NAMES``."""
+
+    @functools.cache
+    def make():
+        return ti.types.argpack(**{name: ti.types.ndarray(dtype=_element(kind), ndim=ndim)
+                                   for name, (kind, ndim) in members.items()})
+
+    make.NAMES = tuple(members)
+    return make
+
+
+ModelArgs = _pack_type(dict(
+    r0=("v3", 1), r0_soa=("f", 2), particle_body=("i", 1), body_start=("i", 1), body_count=("i", 1),
+    particle_mass=("f", 1), particle_radius=("f", 1), body_mass=("f", 1),
+    inertia_body=("m3", 1), inertia_body_inv=("m3", 1),
+    block_start=("i", 1), block_count=("i", 1), block_body=("i", 1),
+    block_centre=("v3", 1), block_reach=("f", 1), body_block_start=("i", 1), body_block_count=("i", 1)))
+
+StateArgs = _pack_type(dict(
+    x=("v3", 1), q=("v4", 1), P=("v3", 1), L=("v3", 1), v=("v3", 1), omega=("v3", 1),
+    R=("m3", 1), inertia_inv=("m3", 1), particle_x=("v3", 1), particle_v=("v3", 1)))
+
+WorldArgs = _pack_type(dict(values=("f", 1), planes=("v4", 1)))
+
+ScratchArgs = _pack_type(dict(
+    particle_f=("v3", 1), particle_couple=("v3", 1), particle_energy=("f", 1), partial_F=("v3", 1), partial_tau=("v3", 1),
+    cell_count=("i", 1), cell_start=("i", 1), cell_cursor=("i", 1), particle_cell=("i", 1),
+    sorted_particle=("i", 1), chunk_total=("i", 1), grid_dims=("i", 1), grid_inv_cell=("f", 1),
+    rk_base=("v13", 1), rk_step=("v13", 1), rk_sum=("v13", 1)))
+
+RowArgs = _pack_type(dict(body=("f", 3), contact_energy=("f", 1)))
+
+SurfaceArgs = _pack_type(dict(surface_r0=("v3", 1), surface_body=("i", 1)))
+
+
+def device_array(values: np.ndarray, width: int = 0, dtype=None):
+    """An ndarray holding ``values``: float (the run's precision) by default, vectors of
+    ``width`` if width > 0, else scalars; at least one element (Taichi has no empty arrays)."""
+    values = np.asarray(values)
+    dtype = float_dtype() if dtype is None else dtype
+    host = np.float64 if dtype == ti.f64 else np.float32 if dtype == ti.f32 else np.int32
+    if width:
+        values = values.reshape(-1, width)
+        if len(values) == 0:
+            values = np.zeros((1, width))
+        array = ti.ndarray(ti.types.vector(width, dtype), len(values))
+    else:
+        values = values.reshape(-1)
+        if len(values) == 0:
+            values = np.zeros(1)
+        array = ti.ndarray(dtype, len(values))
+    array.from_numpy(np.ascontiguousarray(values, dtype=host))
+    return array
+
+
+def zeros(count: int, kind: str = "f"):
+    """A zero ndarray of ``count`` (at least 1) elements of kind "f", "i", "v3", "v4", "v13", "m3"."""
+    array = ti.ndarray(_element(kind), max(int(count), 1))
+    array.fill(0)
+    return array

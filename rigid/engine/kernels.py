@@ -1,0 +1,178 @@
+"""The engine's kernels, compiled once per process for a set of TODO units and a scheme.
+
+Every kernel takes the data it works on as argument packs (arrays.py), so any number of
+Simulators, of any scenes and sizes, share one compiled copy: ``engine_kernels(units,
+scheme)`` builds them on first use and caches them (Taichi's offline cache keeps the machine
+code between processes). Only code is captured: the TODO units and the scheme's name.
+
+Two schedules run the same stages (stages.py), chosen by schedule.py:
+- serial: ``run_frames`` runs a chunk of frames (every substep of every frame, then the
+  frame's row) as one launch on one thread: no thread wake-ups, no per-frame host work;
+- parallel: ``substep`` runs one substep with each stage a top-level (parallel) loop, and
+  ``finish_frame`` places the particles and writes the frame's row; the host launches them.
+"""
+
+import taichi as ti
+
+from . import grid, schemes, stages
+from .arrays import ModelArgs, RowArgs, ScratchArgs, StateArgs, SurfaceArgs, WorldArgs
+from .matvec import matvec
+from .state import DT
+from .rows import write_row
+
+_CACHE: dict = {}
+
+
+def engine_kernels(units, scheme: str) -> "EngineKernels":
+    """The kernels for ``units`` (an object with the 7 TODO ``ti.func``s) and ``scheme``
+    ("euler", "symplectic", "rk4"), compiled on first use in this process."""
+    key = (id(units), scheme)
+    entry = _CACHE.get(key)
+    if entry is None or entry.units is not units:
+        entry = _CACHE[key] = EngineKernels(units, scheme)
+    return entry
+
+
+class EngineKernels:
+    def __init__(self, units, scheme: str):
+        self.units, self.scheme = units, scheme
+        u = units
+        M, S, W, C, Rw, Sf = ModelArgs(), StateArgs(), WorldArgs(), ScratchArgs(), RowArgs(), SurfaceArgs()
+        rk4 = scheme == "rk4"
+        update = schemes.symplectic_update if scheme == "symplectic" else schemes.euler_update
+
+        @ti.func
+        def forces_serial(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template()):
+            if stages.has_pairs(world):
+                stages.place_particles(model, state)
+                grid.build_grid_serial(scratch, state, 1)
+                for i in range(state.particle_x.shape[0]):
+                    stages.pair_stage(model, state, world, scratch, i)
+            for k in range(model.block_start.shape[0]):
+                stages.block_forces(u, model, state, world, scratch, k)
+
+        @ti.func
+        def substep_serial(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template()):
+            dt = world.values[DT]
+            B = state.x.shape[0]
+            if ti.static(rk4):
+                for b in range(B):
+                    schemes.rk4_begin(state, scratch, b)
+                for stage in ti.static(range(4)):
+                    forces_serial(model, state, world, scratch)
+                    for b in range(B):
+                        F, tau = stages.body_wrench(model, scratch, b)
+                        schemes.rk4_stage(u, model, state, scratch, b, dt, F, tau, stage)
+                for b in range(B):
+                    schemes.rk4_finish(u, model, state, scratch, b, dt)
+            else:
+                forces_serial(model, state, world, scratch)
+                for b in range(B):
+                    F, tau = stages.body_wrench(model, scratch, b)
+                    update(u, model, state, b, dt, F, tau)
+
+        @ti.kernel
+        def run_frames(model: M, state: S, world: W, scratch: C, rows: Rw, frames: ti.i32, substeps: ti.i32):
+            # One thread: ``frames`` frames of ``substeps`` substeps, a row after each frame.
+            ti.loop_config(serialize=True)
+            for frame in range(frames):
+                for _step in range(substeps):
+                    substep_serial(model, state, world, scratch)
+                stages.place_particles(model, state)
+                grid.build_grid_serial(scratch, state, ti.cast(stages.has_pairs(world), ti.i32))
+                energy = 0.0
+                for i in range(state.particle_x.shape[0]):
+                    energy += stages.particle_contact_energy(model, state, world, scratch, i)
+                write_row(state, rows, frame, energy)
+
+        @ti.func
+        def forces_parallel(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template()):
+            # Top-level loops (parallel); without pairs the first stages loop over nothing.
+            pairs = ti.cast(stages.has_pairs(world), ti.i32)
+            for i in range(state.particle_x.shape[0] * pairs):
+                stages.place_particle(model, state, i)
+            grid.build_grid_parallel(scratch, state, pairs)
+            for i in range(state.particle_x.shape[0] * pairs):  # in slot order: neighbours close in memory
+                stages.pair_stage(model, state, world, scratch, i)
+            for k in range(model.block_start.shape[0]):
+                stages.block_forces(u, model, state, world, scratch, k)
+
+        @ti.kernel
+        def substep(model: M, state: S, world: W, scratch: C):
+            # Each loop at this level is one parallel task; the tasks run in order.
+            dt = world.values[DT]
+            if ti.static(rk4):
+                for b in range(state.x.shape[0]):
+                    schemes.rk4_begin(state, scratch, b)
+                for stage in ti.static(range(4)):
+                    forces_parallel(model, state, world, scratch)
+                    for b in range(state.x.shape[0]):
+                        F, tau = stages.body_wrench(model, scratch, b)
+                        schemes.rk4_stage(u, model, state, scratch, b, dt, F, tau, stage)
+                for b in range(state.x.shape[0]):
+                    schemes.rk4_finish(u, model, state, scratch, b, dt)
+            else:
+                forces_parallel(model, state, world, scratch)
+                for b in range(state.x.shape[0]):
+                    F, tau = stages.body_wrench(model, scratch, b)
+                    update(u, model, state, b, dt, F, tau)
+
+        @ti.kernel
+        def finish_frame(model: M, state: S, world: W, scratch: C, rows: Rw, slot: ti.i32):
+            stages.place_particles(model, state)
+            grid.build_grid_parallel(scratch, state, ti.cast(stages.has_pairs(world), ti.i32))
+            for i in range(state.particle_x.shape[0]):  # the terms in parallel, summed in order below
+                scratch.particle_energy[i] = stages.particle_contact_energy(model, state, world, scratch, i)
+            ti.loop_config(serialize=True)
+            for _ in range(1):
+                energy = 0.0
+                for i in range(state.particle_x.shape[0]):
+                    energy += scratch.particle_energy[i]
+                write_row(state, rows, slot, energy)
+
+        @ti.kernel
+        def init_bodies(model: M, state: S, x0: ti.types.ndarray(), q0: ti.types.ndarray(),
+                        v0: ti.types.ndarray(), w0: ti.types.ndarray()):
+            for b in range(state.x.shape[0]):
+                schemes.init_body(u, model, state, b, ti.Vector([x0[b, 0], x0[b, 1], x0[b, 2]], float),
+                                  ti.Vector([q0[b, 0], q0[b, 1], q0[b, 2], q0[b, 3]], float),
+                                  ti.Vector([v0[b, 0], v0[b, 1], v0[b, 2]], float),
+                                  ti.Vector([w0[b, 0], w0[b, 1], w0[b, 2]], float))
+            stages.place_particles(model, state)
+
+        @ti.kernel
+        def apply_impulse(model: M, state: S, i: ti.i32, J: ti.types.vector(3, float)):
+            ti.loop_config(serialize=True)
+            for _ in range(1):
+                schemes.impulse(u, model, state, i, J)
+            stages.place_particles(model, state)
+
+        @ti.kernel
+        def sum_inertia(model: M):
+            # I0 = Σ TODO 1 (m, r0ᵢ) per body, summed in slot order by one thread.
+            ti.loop_config(serialize=True)
+            for b in range(model.body_start.shape[0]):
+                total = ti.Matrix.zero(float, 3, 3)
+                for i in range(model.body_start[b], model.body_start[b] + model.body_count[b]):
+                    total += u.particle_inertia(model.particle_mass[b], model.r0[i])
+                model.inertia_body[b] = total
+
+        @ti.kernel
+        def place_surfaces(state: S, surface: Sf, out: ti.types.ndarray()):
+            # The drawn meshes' vertices in the world, (V, 3), from the bodies' state.
+            for k in range(out.shape[0]):
+                b = surface.surface_body[k]
+                p = state.x[b] + matvec(state.R[b], surface.surface_r0[k])
+                for c in ti.static(range(3)):
+                    out[k, c] = p[c]
+
+        @ti.kernel
+        def copy_rows(rows: Rw, out: ti.types.ndarray(), energy_out: ti.types.ndarray()):
+            for f, b, c in ti.ndrange(out.shape[0], out.shape[1], out.shape[2]):
+                out[f, b, c] = rows.body[f, b, c]
+            for f in range(energy_out.shape[0]):
+                energy_out[f] = rows.contact_energy[f]
+
+        self.place_surfaces, self.copy_rows = place_surfaces, copy_rows
+        self.run_frames, self.substep, self.finish_frame = run_frames, substep, finish_frame
+        self.init_bodies, self.apply_impulse, self.sum_inertia = init_bodies, apply_impulse, sum_inertia

@@ -1,0 +1,67 @@
+"""Rows written by the device: every body's state and the contact energy after each frame.
+
+A run of many frames is launched in chunks; after each frame the kernel writes the next
+row, and the host reads a chunk's rows back in one copy. So the frame loop does no
+per-frame host work: a blow-up is found in the rows (rigid.run.runner), and the export
+keeps them. A body's row is x (3), q (4), v (3), ω (3), P (3), L (3), in that order
+(``LAYOUT``); RowArgs: ``body`` [capacity, B, 19] float, ``contact_energy`` [capacity] float
+(the springs' ½ k δ², summed over the particle slots in order). Energies from these numbers
+are computed on the host (rigid.engine.simulator).
+"""
+import numpy as np
+import taichi as ti
+
+from .arrays import RowArgs, zeros
+
+LAYOUT = (("x", 3), ("q", 4), ("v", 3), ("omega", 3), ("P", 3), ("L", 3))
+ROW_WIDTH = sum(width for _name, width in LAYOUT)  # 19
+MAX_FRAMES = 1024  # per chunk
+MAX_FLOATS = 1 << 20  # the buffer's size cap (4 MiB in float32): many bodies get fewer frames per chunk
+
+
+def capacity_for(num_bodies: int) -> int:
+    """Frames one chunk may write: a power of two up to MAX_FRAMES, the buffer under MAX_FLOATS numbers."""
+    frames = max(1, min(MAX_FRAMES, MAX_FLOATS // (num_bodies * ROW_WIDTH)))
+    return 1 << (frames.bit_length() - 1)
+
+
+class FrameRows:
+    def __init__(self, num_bodies: int):
+        self.num_bodies = num_bodies
+        self.capacity = capacity_for(num_bodies)
+        self.body = ti.ndarray(ti.lang.impl.current_cfg().default_fp, (self.capacity, num_bodies, ROW_WIDTH))
+        self.contact_energy = zeros(self.capacity)
+        self.args = RowArgs()(body=self.body, contact_energy=self.contact_energy)
+
+    def read(self, frames: int, kernels) -> tuple[np.ndarray, np.ndarray]:
+        """Rows 0..frames-1 as float64: (frames, B, ROW_WIDTH) and the contact energy (frames,).
+        Only those rows are copied (``kernels.copy_rows``; ``to_numpy`` would copy the capacity)."""
+        host = np.float64 if self.body.dtype == ti.f64 else np.float32
+        body = np.empty((frames, self.num_bodies, ROW_WIDTH), host)
+        energy = np.empty(frames, host)
+        kernels.copy_rows(self.args, body, energy)
+        return body.astype(np.float64), energy.astype(np.float64)
+
+
+@ti.func
+def write_row(state: ti.template(), rows: ti.template(), slot, energy):
+    rows.contact_energy[slot] = energy
+    for b in range(state.x.shape[0]):
+        x, q, v, w, P, L = state.x[b], state.q[b], state.v[b], state.omega[b], state.P[b], state.L[b]
+        for c in ti.static(range(3)):
+            rows.body[slot, b, c] = x[c]
+            rows.body[slot, b, 7 + c] = v[c]
+            rows.body[slot, b, 10 + c] = w[c]
+            rows.body[slot, b, 13 + c] = P[c]
+            rows.body[slot, b, 16 + c] = L[c]
+        for c in ti.static(range(4)):
+            rows.body[slot, b, 3 + c] = q[c]
+
+
+def split_rows(body: np.ndarray) -> dict:
+    """(k, B, ROW_WIDTH) rows as named arrays (k, B, width): x, q, v, omega, P, L."""
+    out, start = {}, 0
+    for name, width in LAYOUT:
+        out[name] = body[:, :, start:start + width]
+        start += width
+    return out

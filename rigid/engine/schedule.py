@@ -1,0 +1,44 @@
+"""Serial or parallel: the one place that decides how a scene's substeps run.
+
+Both schedules run the same stages with sums in the same fixed order (kernels.py); they
+differ in who runs them:
+- serial: one thread runs a whole chunk of frames in one launch. No thread wakes up, no
+  host work per substep: the better choice on a CPU unless a substep has a lot of work.
+- parallel: every stage of a substep is a parallel loop, one launch per substep. Waking
+  the worker threads costs 15-70 µs per loop on this project's 2-vCPU machine, and a launch
+  from Python ~0.1-0.5 ms, so a substep must carry far more work than that to gain.
+
+Work per particle and substep, measured on the 2-vCPU machine (``scripts/bench.py``,
+``scripts/bench_many.py``): ~1 ns for a body against the walls, 100-250 ns for particles in
+contact with other bodies (the pair search). The thresholds are the measured break-evens
+for two threads, assumed to fall as 1/threads with more. A GPU always runs parallel (one
+GPU thread would run the whole scene).
+"""
+from __future__ import annotations
+
+import os
+
+import taichi as ti
+
+# Particles from which two CPU threads beat one (see the module docstring).
+PARALLEL_MIN_PARTICLES_ALONE = 1 << 20  # bodies that touch only the static colliders
+PARALLEL_MIN_PARTICLES_PAIRS = 16384  # bodies that collide with one another
+SCHEDULE_ENV = "RIGID_SCHEDULE"  # "serial" or "parallel" forces one (benchmarks, tests)
+
+
+def choose_schedule(num_particles: int, pairs: bool, forced: str | None = None) -> str:
+    """"serial" or "parallel" for a scene of ``num_particles`` on the current Taichi arch.
+    ``forced`` (or the RIGID_SCHEDULE environment variable) overrides the choice."""
+    forced = forced or os.environ.get(SCHEDULE_ENV) or None
+    if forced is not None:
+        if forced not in ("serial", "parallel"):
+            raise ValueError(f"schedule = {forced!r}: use 'serial' or 'parallel'")
+        return forced
+    cfg = ti.lang.impl.current_cfg()
+    if cfg.arch not in (ti.x64, ti.arm64):
+        return "parallel"
+    threads = cfg.cpu_max_num_threads
+    if threads < 2:
+        return "serial"
+    base = PARALLEL_MIN_PARTICLES_PAIRS if pairs else PARALLEL_MIN_PARTICLES_ALONE
+    return "parallel" if num_particles >= base * 2 // threads else "serial"

@@ -1,0 +1,228 @@
+"""The stages of a substep, for one body or many (Warp's ``eval_*_forces``, Brax's pipeline).
+
+  1. place_particles   pᵢ = x + R r0ᵢ, vᵢ = v + ω × R r0ᵢ for every particle slot,
+  2. build the grid,   and 3a. pair_stage: each particle's force and couple from other
+                       bodies' particles (contact.py); 1-3a only when bodies collide
+  3b. block_forces     per block: fᵢ = TODO 2 (m g) + the static planes in reach + the pair
+                       force, then the block's share of F = Σ TODO 3 (fᵢ) and
+                       τ = Σ TODO 4 (pᵢ, x, R, r0ᵢ, fᵢ) + the pairs' couples
+  4. body_wrench       per body: F, τ = Σ of its blocks' shares, in block order;
+                       then the scheme's update (schemes.py: TODO 5, 6, 7)
+Every stage is a ``ti.func`` whose arguments say what it reads and writes: ``u`` the TODO
+units, ``model`` ModelArgs (read), ``state`` StateArgs, ``world`` WorldArgs (read),
+``scratch`` ScratchArgs. A stage's loops run in parallel where it sits at a kernel's top
+level, serially inside a one-thread kernel (kernels.py); every sum has a fixed order either
+way, so runs are bit-reproducible. A lone body is B = 1: no grid, no pairs.
+"""
+import taichi as ti
+
+from . import grid
+from .contact import pair_force, plane_force
+from .matvec import matvec
+from .state import DAMPING, FRICTION, GX, NUM_PLANES, PAIRS, STIFFNESS
+
+# A block's reach test is padded by this fraction of the coordinates' size (~170 float32
+# ulps), covering the round-off of pᵢ = x + R r0ᵢ: a skipped plane is exactly one no particle
+# of the block touches, so its force would be exactly zero.
+CLEAR_MARGIN = 1e-5
+
+
+@ti.func
+def contact_constants(world: ti.template()):
+    """(k, k_d, μ): stiffness, damping, friction."""
+    return world.values[STIFFNESS], world.values[DAMPING], world.values[FRICTION]
+
+
+@ti.func
+def gravity(world: ti.template()):
+    return ti.Vector([world.values[GX], world.values[GX + 1], world.values[GX + 2]])
+
+
+@ti.func
+def has_pairs(world: ti.template()):
+    return world.values[PAIRS] > 0
+
+
+@ti.func
+def num_planes(world: ti.template()):
+    return ti.cast(world.values[NUM_PLANES], ti.i32)
+
+
+@ti.func
+def place_particle(model: ti.template(), state: ti.template(), i):
+    b = model.particle_body[i]
+    r = matvec(state.R[b], model.r0[i])
+    state.particle_x[i] = state.x[b] + r
+    state.particle_v[i] = state.v[b] + state.omega[b].cross(r)
+
+
+@ti.func
+def place_particles(model: ti.template(), state: ti.template()):
+    for i in range(state.particle_x.shape[0]):
+        place_particle(model, state, i)
+
+
+@ti.func
+def planes_in_reach(model: ti.template(), state: ti.template(), world: ti.template(), k):
+    """Bit j set where a particle of block k may touch plane j (a NaN sets every bit)."""
+    b = model.block_body[k]
+    x = state.x[b]
+    c = x + matvec(state.R[b], model.block_centre[k])
+    reach = model.block_reach[k] + CLEAR_MARGIN * (ti.abs(x).max() + ti.abs(model.block_centre[k]).max()
+                                                   + model.block_reach[k])
+    near = 0
+    for j in range(num_planes(world)):
+        plane = world.planes[j]
+        gap = plane[0] * c[0] + plane[1] * c[1] + plane[2] * c[2] - plane[3]
+        reach_j = reach + CLEAR_MARGIN * ti.abs(plane[3])
+        if not gap > reach_j:  # written so that a NaN is near
+            near |= 1 << j
+    return near
+
+
+@ti.func
+def pair_forces(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(), i):
+    """Σ over particles j of other bodies near slot i: (force, couple about pᵢ, contact energy)."""
+    a = model.particle_body[i]
+    p, r_a = state.particle_x[i], model.particle_radius[a]
+    k, kd, mu = contact_constants(world)
+    x_a, v_a, w_a = state.x[a], state.v[a], state.omega[a]
+    f = ti.Vector.zero(float, 3)
+    couple = ti.Vector.zero(float, 3)
+    energy = 0.0
+    g = grid.cell_coords(scratch, p)
+    for dz in range(-1, 2):
+        for dy in range(-1, 2):
+            for part in range(3):
+                lo, hi = grid.row_range(scratch, g[0], g[1] + dy, g[2] + dz, part)
+                for slot in range(lo, hi):
+                    j = scratch.sorted_particle[slot]
+                    b = model.particle_body[j]
+                    if b != a:
+                        fp, cp, ep = pair_force(p, state.particle_x[j], r_a, model.particle_radius[b],
+                                                x_a, v_a, w_a, state.x[b], state.v[b], state.omega[b], k, kd, mu)
+                        f += fp
+                        couple += cp
+                        energy += ep
+    return f, couple, energy
+
+
+FAR = 1e30  # offset of a stand-in plane: behind it lie only coordinates below -1e30 (finite in f32)
+NEAR_SLOTS = 3  # planes a block's loop tests with its slots unrolled (the box: floor, one x, one z wall)
+
+
+@ti.func
+def pair_stage(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(), i):
+    """Stage 3a (bodies in contact): slot i's force and couple from other bodies' particles."""
+    fp, cp, _e = pair_forces(model, state, world, scratch, i)
+    scratch.particle_f[i] = fp
+    scratch.particle_couple[i] = cp
+
+
+@ti.func
+def _block_loop(u: ti.template(), model: ti.template(), world: ti.template(), scratch: ti.template(),
+                start, end, b, x, R, v, omega, slots, pairs: ti.template(), count: ti.template()):
+    """Σ TODO 3 and TODO 4 over slots start..end−1 of body b, each particle's force being
+    gravity (TODO 2) + the planes (``count`` static slots of ``slots``, or every plane of the
+    world if count is -1) + its pair force and couple (scratch, if ``pairs``)."""
+    F = ti.Vector.zero(float, 3)
+    tau = ti.Vector.zero(float, 3)
+    # Loaded once, so that LLVM vectorises the loop over the particles.
+    m, g = model.particle_mass[b], gravity(world)
+    stiffness, kd, mu = contact_constants(world)
+    radius = model.particle_radius[b]
+    for i in range(start, end):
+        r0 = ti.Vector([model.r0_soa[0, i], model.r0_soa[1, i], model.r0_soa[2, i]])
+        r = matvec(R, r0)
+        p = x + r
+        f = u.gravity_force(m, g)
+        if ti.static(count > 0):
+            pv = v + omega.cross(r)
+            for j in ti.static(range(count)):
+                plane = ti.Vector([slots[j, 0], slots[j, 1], slots[j, 2], slots[j, 3]])
+                fc, _e = plane_force(p, pv, radius, plane, stiffness, kd, mu)
+                f += fc
+        elif ti.static(count < 0):
+            pv = v + omega.cross(r)
+            for j in range(num_planes(world)):
+                fc, _e = plane_force(p, pv, radius, world.planes[j], stiffness, kd, mu)
+                f += fc
+        couple = ti.Vector.zero(float, 3)
+        if ti.static(pairs):
+            f += scratch.particle_f[i]
+            couple = scratch.particle_couple[i]
+        F += u.total_force_term(f)
+        tau += u.torque_term(p, x, R, r0, f) + couple
+    return F, tau
+
+
+@ti.func
+def _block_share(u: ti.template(), model: ti.template(), state: ti.template(), world: ti.template(),
+                 scratch: ti.template(), k, pairs: ti.template()):
+    b = model.block_body[k]
+    start = model.block_start[k]
+    end = start + model.block_count[k]
+    x, R, v, omega = state.x[b], state.R[b], state.v[b], state.omega[b]
+    near = planes_in_reach(model, state, world, k)
+    F = ti.Vector.zero(float, 3)
+    tau = ti.Vector.zero(float, 3)
+    # The planes in reach, in index order, in the slots; the other slots hold a plane no particle
+    # is behind (its force is exactly zero, so f is the same as with the near planes alone).
+    slots = ti.Matrix([[0.0, 1.0, 0.0, -FAR]] * NEAR_SLOTS)
+    used = 0
+    for j in range(num_planes(world)):
+        if near & (1 << j):
+            if used < NEAR_SLOTS:
+                for c in ti.static(range(4)):
+                    slots[used, c] = world.planes[j][c]
+            used += 1
+    if used == 0:
+        F, tau = _block_loop(u, model, world, scratch, start, end, b, x, R, v, omega, slots, pairs, 0)
+    elif used == 1:  # e.g. resting on the floor
+        F, tau = _block_loop(u, model, world, scratch, start, end, b, x, R, v, omega, slots, pairs, 1)
+    elif used <= NEAR_SLOTS:
+        F, tau = _block_loop(u, model, world, scratch, start, end, b, x, R, v, omega, slots, pairs, NEAR_SLOTS)
+    else:
+        F, tau = _block_loop(u, model, world, scratch, start, end, b, x, R, v, omega, slots, pairs, -1)
+    scratch.partial_F[k] = F
+    scratch.partial_tau[k] = tau
+
+
+@ti.func
+def block_forces(u: ti.template(), model: ti.template(), state: ti.template(), world: ti.template(),
+                 scratch: ti.template(), k):
+    """Stage 3b for block k: its particles' forces (TODO 2 + planes + pairs) and the block's
+    share of F (TODO 3) and τ (TODO 4), summed in slot order into scratch.partial_F, partial_tau."""
+    if has_pairs(world):
+        _block_share(u, model, state, world, scratch, k, True)
+    else:
+        _block_share(u, model, state, world, scratch, k, False)
+
+
+@ti.func
+def body_wrench(model: ti.template(), scratch: ti.template(), b):
+    """Stage 4's sum: F and τ (about x) on body b, its blocks' shares in block order."""
+    F = ti.Vector.zero(float, 3)
+    tau = ti.Vector.zero(float, 3)
+    first = model.body_block_start[b]
+    for k in range(first, first + model.body_block_count[b]):
+        F += scratch.partial_F[k]
+        tau += scratch.partial_tau[k]
+    return F, tau
+
+
+@ti.func
+def particle_contact_energy(model: ti.template(), state: ti.template(), world: ti.template(),
+                            scratch: ti.template(), i):
+    """The springs' energy ½ k δ² at slot i: every static plane, and half of each pair's."""
+    b = model.particle_body[i]
+    stiffness, kd, mu = contact_constants(world)
+    energy = 0.0
+    for j in range(num_planes(world)):
+        _f, e = plane_force(state.particle_x[i], state.particle_v[i], model.particle_radius[b], world.planes[j],
+                            stiffness, kd, mu)
+        energy += e
+    if has_pairs(world):
+        _f, _c, e = pair_forces(model, state, world, scratch, i)
+        energy += e
+    return energy
