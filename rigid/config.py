@@ -174,6 +174,9 @@ def load_scene(path: str | Path) -> dict:
         data = tomllib.loads(path.read_text())
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as err:
         raise UserError(f"scene file {path} is not valid TOML ({err}); fix the syntax") from None
+    if not data:
+        raise UserError(f"scene file {path} is empty: it sets no keys, so the run would be the defaults; "
+                        f"add keys (see assets/scenes/assignment.toml) or leave out --scene")
     unknown = sorted(set(data) - SCENE_KEYS)
     if unknown:
         close = difflib.get_close_matches(unknown[0], SCENE_KEYS, n=1)

@@ -54,12 +54,36 @@ def read_mesh(path: str | Path, scale: float = 1.0) -> Mesh:
                         f"use one of {', '.join(FORMATS)}")
     from .objfile import read_plain_obj  # plain OBJ without trimesh: 0.45 s less start-up
 
+    if path.suffix.lower() == ".stl":
+        check_binary_stl_size(path)
     plain = read_plain_obj(path) if path.suffix.lower() == ".obj" else None
     if plain is not None:
         vertices, faces = plain
     else:
         vertices, faces = _load_with_trimesh(path)
     return checked_mesh(path, vertices, faces, scale)
+
+
+def check_binary_stl_size(path: Path) -> None:
+    """A binary STL is an 80-byte header, a triangle count n and 50 bytes a triangle: a count
+    that the file's size does not match is a truncated or damaged file (trimesh then reads
+    nothing, and the message would say only "no vertices"). ASCII STL files pass."""
+    size = path.stat().st_size
+    if size < 84:
+        return  # too short to be binary: trimesh's ASCII reader says what it finds
+    with path.open("rb") as f:
+        head = f.read(1024)
+    count = int.from_bytes(head[80:84], "little")
+    if 84 + 50 * count == size:
+        return
+    text = head.lstrip().lower()
+    if text.startswith(b"solid") and (b"facet" in text or b"endsolid" in text):
+        return  # ASCII
+    whole = (size - 84) / 50
+    raise UserError(f"mesh file {path}: its binary STL header says {count:,} triangles, which take "
+                    f"84 + 50 x {count:,} = {84 + 50 * count:,} bytes, but the file has {size:,} bytes "
+                    f"({'room for ' + format(int(whole), ',') + ' triangles' if whole == int(whole) else 'not a whole number of triangles'}); "
+                    f"the file is truncated or damaged: export it again")
 
 
 def checked_mesh(path: Path, vertices: np.ndarray, faces: np.ndarray, scale: float, where: str = "") -> Mesh:

@@ -63,8 +63,6 @@ def _record_frames(sim, renderer, path: Path, frames: int, size, export_path, pr
                 with ctrl_c_between_frames() as stop_requested:
                     def on_frame(sim, i):
                         nonlocal last
-                        if stop_requested():
-                            raise KeyboardInterrupt
                         renderer.draw()
                         frame = renderer.read_rgba()
                         snap = sim.snapshot()
@@ -73,6 +71,8 @@ def _record_frames(sim, renderer, path: Path, frames: int, size, export_path, pr
                         writer.write(frame)
                         last = frame
                         bar.update(1)
+                        if stop_requested():  # after drawing: the export holds this frame's row too
+                            raise KeyboardInterrupt
 
                     result = run_frames(sim, frames, export_path=export_path, on_frame=on_frame)
             finally:
