@@ -8,6 +8,24 @@ import numpy as np
 
 from . import text_many
 
+NBSP = "\u00a0"  # a space a line never breaks at: a formula stays on one line
+
+
+def formula(text: str) -> str:
+    """``text`` with non-breaking spaces, so the PDF never wraps it ("½[0, / ω]⊗q" was)."""
+    return text.replace(" ", NBSP)
+
+
+INTRO = ("A body is a set of particles of equal mass at the vertices of a mesh. Its state is the "
+         "centre of mass x, the orientation quaternion q, the linear momentum P and the angular "
+         "momentum L. Every substep sums gravity and the box's contact forces over the particles "
+         "into a force F and a torque τ about x, then takes one explicit Euler step: "
+         + ", ".join(formula(f) for f in ("x += Δt P/M", "P += Δt F", "q += Δt ½[0, ω]⊗q"))
+         + " (renormalised), " + formula("L += Δt τ") + ", and refreshes "
+         + ", ".join(formula(f) for f in ("R = R(q)", "I⁻¹ = R I0⁻¹ Rᵀ", "ω = I⁻¹ L"))
+         + ". A rendered frame is 1/60 s: 16 substeps of " + formula("Δt = 1 ms") + ".")
+STILL_WIDTH_CM = 9  # the recording's stills, printed side by side with their captions
+
 PARAMETERS = ("mesh", "scale", "particles", "position", "particle_mass", "initial_velocity",
               "initial_angular_velocity", "gravity", "walls", "collision_stiffness",
               "velocity_damping_stiffness", "friction_stiffness", "dt", "integrator")
@@ -17,12 +35,7 @@ def write(doc, out: Path, configs, runs, flip, validation, bench, stills, many=N
     doc.para("Name: ____________________")
     doc.para("UID: ____________________")
     doc.heading("Assignment 3: a rigid body simulator in Taichi")
-    doc.para("A body is a set of particles of equal mass at the vertices of a mesh. Its state is the "
-             "centre of mass x, the orientation quaternion q, the linear momentum P and the angular "
-             "momentum L. Every substep sums gravity and the box's contact forces over the particles "
-             "into a force F and a torque τ about x, then takes one explicit Euler step: x += Δt P/M, "
-             "P += Δt F, q += Δt ½[0, ω]⊗q (renormalised), L += Δt τ, and refreshes R = R(q), "
-             "I⁻¹ = R I0⁻¹ Rᵀ, ω = I⁻¹ L. A rendered frame is 1/60 s: 16 substeps of Δt = 1 ms.")
+    doc.para(INTRO)
 
     doc.heading("Simulation parameters", 2)
     doc.para("Read from the scene files in `assets/scenes/` over the defaults of `rigid/config.py` "
@@ -46,17 +59,14 @@ def write(doc, out: Path, configs, runs, flip, validation, bench, stills, many=N
               "and settles.", width_cm=10)
 
     doc.heading("The intermediate-axis flip", 2)
-    doc.image(out / "figures" / "flip.png",
-              f"Spun about its middle principal axis, the T-handle flips over every "
-              f"{flip['period']:.3f} s; the period of Euler's equations is {flip['reference_period']:.3f} s "
-              f"({100 * abs(flip['period'] / flip['reference_period'] - 1):.2f}% apart).")
+    doc.image(out / "figures" / "flip.png", flip_caption(flip, validation))
     _validation(doc, out, validation)
     _bench(doc, bench)
     if stills:
         doc.heading("Frames from a recording", 2)
         for path in stills:
             doc.image(path, f"{path.stem}: `--scene assets/scenes/thrown_sphere.toml --record`, drawn offscreen "
-                      "by the project's Taichi rasteriser (`rigid/view/raster.py`)", width_cm=9)
+                      "by the project's Taichi rasteriser (`rigid/view/raster.py`)", width_cm=STILL_WIDTH_CM)
     if many:
         text_many.write(doc, out, many["pile"], many["dominoes"], bench_many)
 
@@ -64,6 +74,26 @@ def write(doc, out: Path, configs, runs, flip, validation, bench, stills, many=N
     doc.bullets(BONUS)
     doc.heading("Ideas to improve the simulator", 2)
     doc.bullets(IDEAS)
+
+
+def flip_caption(flip: dict, validation: dict | None) -> str:
+    """The flip figure's caption: its period against Euler's equations, and why the validation
+    table's figure for the same Δt differs (this run is float32, as the scenes are; validate.py
+    runs float64)."""
+    apart = 100 * (flip["period"] / flip["reference_period"] - 1)
+    text = (f"Spun about its middle principal axis, the T-handle flips over every {flip['period']:.3f} s; "
+            f"the period of Euler's equations is {flip['reference_period']:.3f} s ({apart:+.2f}%). "
+            "This run is float32, as the scenes are")
+    table = (validation or {}).get("table")
+    rows = [r for r in (table or {}).get("rows", []) if r and r[0] == "euler"]
+    if rows:
+        text += (f"; the validation table's {rows[0][-1]} is the same explicit Euler run in float64 "
+                 "(scripts/validate.py)")
+    return text + (". The time between flips grows with the logarithm of how little the spin starts off the "
+                   "middle axis, so it magnifies small differences: float32 rounds the inertia tensor and the "
+                   f"state at about 1e-7 (the float32 inertia's largest off-diagonal term here: "
+                   f"{flip.get('off_diagonal_inertia', 0.0):.1e} kg m²), and that shifts the period by "
+                   "percents.")
 
 
 def _validation(doc, out: Path, validation) -> None:
@@ -121,7 +151,7 @@ BONUS = [
 ]
 
 IDEAS = [
-    "Faster many-body contact (both speed targets were missed): a broad phase on bounding spheres "
+    "Faster many-body contact (see the speed of the piles and of 1,000 bodies above): a broad phase on bounding spheres "
     "so that bodies far from all others skip the particle search, and sleeping for bodies at rest.",
     "Smoother contact between bodies: particles make flat faces bumpy (the stack needs its "
     "half-spacing offsets); particle-against-SDF contact would let flat faces rest flat.",
