@@ -6,7 +6,7 @@ top-level (so parallel) loops over the particles: forces on every particle
 (stored), F with atomics, τ with atomics, then one thread updates the body,
 then a last loop stores every particle's position and velocity for the next
 substep. The physics is the engine's: the same 7 TODO units, the same contact
-(rigid.engine.contact.box_force), explicit Euler. Only the structure differs, which is
+(rigid.engine.contact: the box's five planes, on particle centres), explicit Euler. Only the structure differs, which is
 what the benchmark measures: launches, tasks, per-substep particle stores.
 The handout also runs Taichi with ``debug=True``, which makes it several times
 slower again; the baseline here runs without it (one ti.init per process).
@@ -54,7 +54,7 @@ class HandoutLoop:
         @ti.kernel
         def substep(dt: float):
             for i in range(n):  # parallel: force on every particle, from last substep's positions
-                fc, _e = box_force(px[i], pv[i], floor, wall, k, kd, mu)
+                fc, _e = box_force(px[i], pv[i], 0.0, floor, wall, k, kd, mu)
                 pf[i] = u.gravity_force(mass, gravity) + fc
             for i in range(n):  # parallel, atomic: total force
                 F[None] += u.total_force_term(pf[i])

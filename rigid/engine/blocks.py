@@ -1,8 +1,8 @@
 """Particles grouped into small, spatially compact blocks: the unit of work of a substep.
 
 The force stage visits a body's particles block by block (stages.py). Each block
-carries a bounding sphere in the body frame (centre c, reach ρ = its radius plus the
-particle radius); once per substep the sphere, moved to the world by (x, R), says
+carries a bounding sphere of its particles' centres in the body frame (centre c, reach ρ);
+once per substep the sphere, moved to the world by (x, R), says
 which static planes a particle of the block may touch, and the block's particles are
 tested against those planes only: the others' forces would be exactly zero there. A
 body in flight tests no plane at all. The block is also the unit of summation: F and
@@ -14,12 +14,12 @@ of their body-frame positions, so consecutive particles are close in space: a
 volume-sampled body gives 4×4×4-cell cubes. The order inside the blocks is
 this sorted order, which is the Model's slot order (``Model.order``, ``Model.slot_of``).
 
-Fields (float is the run's precision), N particles, K blocks, B bodies:
+The layout (numpy arrays), N particles, K blocks, B bodies:
 - ``order``        [N]   the particles (file order) in slot order: the Model stores them so
 - ``block_start``, ``block_count`` [K]  block k holds slots start .. start + count − 1
 - ``block_body``   [K]   the body that owns block k
 - ``block_centre`` [K, 3] centre of the block's bounding box, body frame
-- ``block_reach``  [K]   radius of the sphere about that centre holding every particle's sphere
+- ``block_reach``  [K]   radius of the sphere about that centre holding every particle centre
 - ``body_block_start``, ``body_block_count`` [B]  body b's blocks, consecutive
 """
 from __future__ import annotations
@@ -54,9 +54,8 @@ def morton_order(points: np.ndarray) -> np.ndarray:
     return np.argsort(code, kind="stable")
 
 
-def block_layout(r0: np.ndarray, body_start, body_count, block_size: int, radius) -> dict:
-    """Host-side layout (numpy) of the blocks of every body; see the module docstring.
-    ``radius`` (B,): the bodies' particle radii, added to each block's reach."""
+def block_layout(r0: np.ndarray, body_start, body_count, block_size: int) -> dict:
+    """Host-side layout (numpy) of the blocks of every body; see the module docstring."""
     order, starts, counts, owners, centres, reaches = [], [], [], [], [], []
     body_block_start, body_block_count = [], []
     for b, (start, count) in enumerate(zip(body_start, body_count)):
@@ -70,7 +69,7 @@ def block_layout(r0: np.ndarray, body_start, body_count, block_size: int, radius
             counts.append(len(members))
             owners.append(b)
             centres.append(centre)
-            reaches.append(float(np.sqrt(((points - centre) ** 2).sum(axis=1).max())) + float(radius[b]))
+            reaches.append(float(np.sqrt(((points - centre) ** 2).sum(axis=1).max())))
         body_block_count.append(len(starts) - body_block_start[-1])
         order.append(body_order)
     return dict(order=np.concatenate(order), block_start=np.array(starts), block_count=np.array(counts),

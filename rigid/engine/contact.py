@@ -77,3 +77,18 @@ def pair_force(p_i, p_j, r_a, r_b, x_a, v_a, w_a, x_b, v_b, w_b, k, kd, mu):
         couple = (c - p_i).cross(force)
         energy = 0.25 * k * overlap * overlap
     return force, couple, energy
+
+
+@ti.func
+def box_force(p, v, radius, floor, wall, k, kd, mu):
+    """The assignment's box (floor y = floor, walls x, z = ±wall) on one particle: the sum of its
+    five planes in the engine's order (rigid.engine.state.Params.plane_list), and their energy."""
+    force = ti.Vector.zero(float, 3)
+    energy = 0.0
+    for plane in ti.static(((0.0, 1.0, 0.0, 0), (1.0, 0.0, 0.0, 1), (-1.0, 0.0, 0.0, 1), (0.0, 0.0, 1.0, 1),
+                            (0.0, 0.0, -1.0, 1))):
+        offset = floor if ti.static(plane[3] == 0) else -wall
+        f, e = plane_force(p, v, radius, ti.Vector([plane[0], plane[1], plane[2], offset]), k, kd, mu)
+        force += f
+        energy += e
+    return force, energy

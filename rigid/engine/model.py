@@ -17,7 +17,7 @@ is the run's precision, f32 or f64), all read-only during a run:
 - ``inertia_body_inv``   [B] mat3   I0⁻¹ (zero where TODO 1 gave a singular I0)
 - ``block_start``, ``block_count``, ``block_body``  [K] i32   block k: its particle slots and body
 - ``block_centre``       [K] vec3   centre of the block's particles' bounding sphere, body frame
-- ``block_reach``        [K] float  that sphere's radius plus the particle radius, m
+- ``block_reach``        [K] float  that sphere's radius (it holds every particle centre), m
 - ``body_block_start``, ``body_block_count``  [B] i32  body b's blocks, consecutive
 
 The drawn meshes (``surface``, for windows, videos and exports) are not read by a substep:
@@ -72,7 +72,7 @@ class Model:
         self.radius_np = np.array([b.radius for b in bodies], np.float64)
         self.body_start_np, self.body_count_np = starts, counts
 
-        layout = block_layout(r0_file, starts, counts, block_size_for(int(counts.max())), self.radius_np)
+        layout = block_layout(r0_file, starts, counts, block_size_for(int(counts.max())))
         self.order = layout["order"]  # slot -> index in file order
         self.slot_of = np.empty_like(self.order)
         self.slot_of[self.order] = np.arange(len(self.order))

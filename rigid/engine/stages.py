@@ -64,18 +64,25 @@ def place_particles(model: ti.template(), state: ti.template()):
 
 @ti.func
 def planes_in_reach(model: ti.template(), state: ti.template(), world: ti.template(), k):
-    """Bit j set where a particle of block k may touch plane j (a NaN sets every bit)."""
+    """Bit j set where a particle's sphere of block k may touch plane j (a NaN sets every bit).
+
+    A particle lies at p = c + R (r0 − c0) with |r0 − c0| <= ρ (the block's reach) and
+    c = x + R c0, so n·p >= n·c − |Rᵀn| ρ for any matrix R: a rotation (|Rᵀn| = 1) or not (a
+    TODO unit may let q drift from unit length). The plane is skipped when even that bound
+    leaves the sphere (radius r) clear of it, padded by CLEAR_MARGIN for round-off."""
     b = model.block_body[k]
-    x = state.x[b]
-    c = x + matvec(state.R[b], model.block_centre[k])
-    reach = model.block_reach[k] + CLEAR_MARGIN * (ti.abs(x).max() + ti.abs(model.block_centre[k]).max()
-                                                   + model.block_reach[k])
+    x, R = state.x[b], state.R[b]
+    c0 = model.block_centre[k]
+    c = x + matvec(R, c0)
+    rho, radius = model.block_reach[k], model.particle_radius[b]
+    size = ti.abs(x).max() + ti.abs(R).max() * (ti.abs(c0).max() + rho) + radius
     near = 0
     for j in range(num_planes(world)):
         plane = world.planes[j]
-        gap = plane[0] * c[0] + plane[1] * c[1] + plane[2] * c[2] - plane[3]
-        reach_j = reach + CLEAR_MARGIN * ti.abs(plane[3])
-        if not gap > reach_j:  # written so that a NaN is near
+        n = ti.Vector([plane[0], plane[1], plane[2]])
+        lever = matvec(R.transpose(), n).norm() * rho
+        clear = n.dot(c) - plane[3] - lever - radius
+        if not clear > CLEAR_MARGIN * (size + ti.abs(plane[3])):  # written so that a NaN is near
             near |= 1 << j
     return near
 
