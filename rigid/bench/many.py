@@ -8,7 +8,7 @@
    is installed, MuJoCo's per step on the same pile (free bodies with the sphere mesh geom,
    same positions and masses), side by side in one process, and their ratio.
 2. Cost per substep against particle count (125 volume-sampled spheres, grid chosen to
-   reach each target), on the path the engine chooses (rigid.engine.world).
+   reach each target), on the schedule the engine chooses (rigid.engine.schedule).
 3. 1,000 volume-sampled spheres (scale 0.05, grid 8: 208,000 particles): rendered frames
    per second, 16 substeps per frame, engine only (no drawing).
 Times: median over repeats of whole frames' wall time. The machine's load and CPU count
@@ -140,7 +140,6 @@ def grid_for(target: int, count: int, top: int = 40) -> int:
 def scaling(units, targets, max_build_s: float) -> list[dict]:
     """Time per substep against particle count: 125 volume spheres, the engine's own path."""
     import taichi as ti
-    from rigid.engine.world import world_uses_serial
     points = []
     for target in targets:
         grid = grid_for(target, 125)
@@ -153,7 +152,7 @@ def scaling(units, targets, max_build_s: float) -> list[dict]:
         frames = max(1, min(20, int(1.0 / max(one * 16, 1e-6))))  # ~1 s per repeat
         t = time_steps(sim.step_frame, ti.sync, 1, frames, 3, 16)
         points.append(dict(target=target, particles=n_p, bodies=125, grid=grid,
-                           path="serial" if world_uses_serial(n_p) else "parallel",
+                           path=sim.schedule,
                            build_s=round(build_s, 2), us_per_substep=round(statistics.median(t) * 1e6, 2),
                            ns_per_particle_substep=round(statistics.median(t) * 1e9 / n_p, 2)))
         print(f"  {n_p:>9,} particles ({points[-1]['path']}): {points[-1]['us_per_substep']:,.0f} µs/substep",

@@ -16,7 +16,7 @@ the command line's own figure, whole processes, long minus short runs, with and
 without --export (rigid.bench.command_line); start-up from command to first frame
 (python rigid_body_dynamic.py --headless --frames 1) with an empty and a warm kernel cache, peak memory of a process
 running the 1M body, and serial vs parallel path by particle count (the
-crossover behind rigid.engine.integrate.parallel_threshold).
+crossover behind rigid.engine.schedule).
 Writes report/bench.json and report/bench.md (--out DIR to change). Speeds are
 reported, never asserted: the machine is shared and timings are noisy.
 """
@@ -138,7 +138,7 @@ def run_case(case, units, ti) -> dict:
     row["particles"] = sim.model.num_particles
     row["baseline_us"] = time_frames(baseline, case["frames"], case["repeats"], substeps, sync)
     row["baseline_final_x"] = baseline.position().round(4).tolist()
-    row["engine_path"] = "parallel" if sim.integrator.uses_parallel else "serial"
+    row["engine_path"] = sim.schedule
     engine = EngineRunner(sim)
     row["engine_us"] = time_frames(engine, case["frames"], case["repeats"], substeps, sync)
     row["engine_final_x"] = engine.position().round(4).tolist()
@@ -166,11 +166,10 @@ def crossover(units, ti, quick: bool) -> list[dict]:
             times = {"serial": [], "parallel": []}
             for _ in range(1 if quick else 5):  # alternate the paths, so that both see the same load
                 for path in times:
-                    sim.integrator.parallel = path == "parallel"
+                    sim.schedule = path
                     times[path].append(time_frames(EngineRunner(sim), 2 if quick else 6, 1, sim.substeps, ti.sync))
             for path, values in times.items():
                 entry[f"{path}_{where}_us"] = statistics.median(values)
-        sim.integrator.parallel = None
         entry["load_average"] = round(os.getloadavg()[0], 2)
         out.append(entry)
         print("crossover", json.dumps(entry), flush=True)
