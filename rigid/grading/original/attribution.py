@@ -95,8 +95,12 @@ def check_simulations(events, attribution, results: dict, per_todo: bool = False
     passed = [k for k, r in results.items() if r["passed"]]
     if not passed:
         return
-    events.emit(phase="trajectory", todos=[])  # the reference runs: a failure there is not the student's TODO
-    usable = attribution.usable()
+    usable = []
+    for label, params in attribution.sets:  # one stage per reference run: a failure there is not the student's
+        events.emit(phase="trajectory", todos=[])
+        ref = attribution.reference(label, params)
+        if ref is not None:
+            usable.append((label, params, ref))
     for note in attribution.notes:
         events.emit(event="note", message=note)
     if not usable:

@@ -96,11 +96,10 @@ def grade(events, path, expected, todos, per_todo=False, renames=None):
     attribution = Attribution(model, folder, form, sets, first.rows if form == "position-first" else None)
     check_simulations(events, attribution, results, per_todo)
     if model.bonus and set(todos) == set(range(1, 8)):  # once per file: the first child grades all seven
-        events.emit(phase="bonus")  # every TODO is decided: a hang here costs nothing (grade_submission.py)
-        events.emit(event="note", message=bonus_note(model, folder))
+        events.emit(event="note", message=bonus_note(events, model, folder))
 
 
-def bonus_note(model, folder) -> str:
+def bonus_note(events, model, folder) -> str:
     """What the file's bonus terms did: the file as it is, with its bonus parameters and without."""
     names = ", ".join(f"{name} = {value:g}" for name, value in model.bonus.items())
     lines = model.text.splitlines()
@@ -114,7 +113,10 @@ def bonus_note(model, folder) -> str:
     head = (f"bonus terms: the TODOs were graded with the file's bonus parameters set to 0 ({names}; the slides' "
             f"model has no damping or friction), so they cost no TODO; read at line{'s' if len(where) > 1 else ''} "
             f"{', '.join(where)}")
-    runs = [run(model.build(range(1, 8), keep_bonus=keep), folder / f"bonus_{int(keep)}.py") for keep in (True, False)]
+    runs = []
+    for keep in (True, False):
+        events.emit(phase="bonus")  # a stage per run (grade_submission.py: a hang here costs nothing)
+        runs.append(run(model.build(range(1, 8), keep_bonus=keep), folder / f"bonus_{int(keep)}.py"))
     if runs[0].rows is None:
         return f"{head}; with the file's own values the file fails when run: {runs[0].error}"
     if runs[1].rows is None or not np.all(np.isfinite(runs[0].rows)):
