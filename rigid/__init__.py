@@ -1,7 +1,8 @@
 """A particle-based rigid body simulator in Taichi (HKU COMP3360 Assignment 3, solved).
 
 The engine never imports the assignment file: it receives the 7 TODO units as
-a parameter (see ``rigid.engine.units``). Start Taichi with ``rigid.runtime.init_taichi``.
+a parameter (see ``rigid.engine.units``). The Python API (rigid/api.py): ``rigid.init``,
+``rigid.scene``, ``rigid.load_scene``, ``rigid.Simulator``, ``rigid.export``.
 
 Importing ``rigid`` first sets Taichi's environment, so import it before taichi.
 """
@@ -14,3 +15,18 @@ os.environ.setdefault("TI_SKIP_VERSION_CHECK", "ON")
 os.environ.setdefault("ENABLE_TAICHI_HEADER_PRINT", "0")
 # Compiled kernels are cached on disk, so a second run starts faster.
 os.environ.setdefault("TI_OFFLINE_CACHE_FILE_PATH", str(Path.home() / ".cache" / "rigid-body-taichi"))
+
+# The Python API (rigid/api.py), loaded on first use so that ``import rigid`` stays light.
+_API = ("init", "scene", "load_scene", "Simulator", "export", "load_units", "default_units", "SimConfig", "ASSETS")
+
+
+def __getattr__(name):
+    if name in _API:
+        from . import api
+
+        return getattr(api, name)
+    raise AttributeError(f"module 'rigid' has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(list(globals()) + list(_API))

@@ -18,7 +18,8 @@ from pathlib import Path
 from .errors import UserError
 
 REPO_ROOT = Path(__file__).resolve().parent.parent
-ASSETS = REPO_ROOT / "assets"
+# The checkout's assets/, or the copy `pip install .` puts in the package (pyproject.toml).
+ASSETS = REPO_ROOT / "assets" if (REPO_ROOT / "assets").is_dir() else Path(__file__).resolve().parent / "assets"
 FRAME_TIME = 1.0 / 60.0  # one rendered frame, as in the handout
 MAX_GRID = 512  # volume sampling: 512³ cells (rigid.bodies.sampling.MAX_CELLS); 1024³ would need ~100 GB
 

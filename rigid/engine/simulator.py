@@ -174,6 +174,13 @@ class Simulator:
             return blocks[0]
         return {key: np.concatenate([b[key] for b in blocks]) for key in blocks[0]}
 
+    def advance(self, frames: int) -> dict:
+        """A trajectory from now: row 0 the current state, then one row per frame (frames + 1
+        rows, the NPZ's keys with a body axis: ``x`` (frames + 1, B, 3), ...)."""
+        start = self.current_block()
+        block = self.advance_frames(frames)
+        return {key: np.concatenate([start[key], block[key]]) for key in block}
+
     def _run(self, frames: int, substeps: int):
         """``frames`` frames of ``substeps`` substeps, rows 0 .. frames − 1 written."""
         k, m, s, w, c, r = self.kernels, self.model.args, self.state.args, self.params.args, self.scratch, self.rows.args

@@ -1,0 +1,68 @@
+"""The Python API: build a scene, step it, read it, export it (``import rigid``).
+
+    import rigid
+    rigid.init("cpu")                                   # once per process (Taichi)
+    scene = rigid.scene(mesh="sphere.obj", scale=0.3)   # or rigid.load_scene("assets/scenes/pile.toml")
+    sim = rigid.Simulator(scene)                        # the repository's solved TODO units
+    rows = sim.advance(120)                             # 121 rows: row 0 now, then a row per frame
+    rigid.export(sim, rows, "drop.npz", "drop.glb")     # the NPZ, glTF and USD exporters
+
+Shapes are per body: ``rows["x"]`` (frames + 1, B, 3); the NPZ of a lone body keeps the
+contract's (F, 3). Kernels compile once per process: a second Simulator costs milliseconds.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from .config import ASSETS, SimConfig, load_scene as _load_scene_values
+from .engine.simulator import Simulator
+from .engine.units import default_units, load_units
+from .runtime import init_taichi
+
+
+def init(arch: str = "cpu", fp64: bool = False) -> str:
+    """Start Taichi (once per process): ``arch`` "cpu" or "gpu" (CUDA or a hardware Vulkan, else
+    the CPU with a note), float64 if ``fp64``. Returns the backend used."""
+    return init_taichi(arch, fp64)
+
+
+def scene(**keys) -> SimConfig:
+    """A scene from the scene file's keys (``mesh``, ``scale``, ``position``, ``count``,
+    ``collision_stiffness``, ...; ``bodies=[dict(mesh=..., count=...), ...]`` for [[body]]
+    tables). A relative ``mesh`` is looked up in the working folder, then in the assets."""
+    from .config import resolve_mesh
+
+    here = Path.cwd() / "scene.toml"  # resolve_mesh looks beside "the file", then in assets/
+    if "mesh" in keys:
+        keys["mesh"] = resolve_mesh(here, str(keys["mesh"]))
+    if "bodies" in keys:
+        keys["bodies"] = tuple({**b, **({"mesh": resolve_mesh(here, str(b["mesh"]))} if "mesh" in b else {})}
+                               for b in keys["bodies"])
+    for key, value in list(keys.items()):
+        if isinstance(value, (list, np.ndarray)) and key != "bodies":
+            keys[key] = tuple(value)
+    return SimConfig(**keys).validate()
+
+
+def load_scene(path) -> SimConfig:
+    """A scene TOML file (assets/scenes/*.toml) as a validated config."""
+    return SimConfig(**_load_scene_values(path)).validate()
+
+
+def export(sim: Simulator, rows: dict, *paths) -> None:
+    """Write ``rows`` (from ``sim.advance``) to each path; the suffix picks the format: .npz
+    (the trajectory), .glb/.gltf (glTF 2.0), .usd/.usda/.usdc (USD, needs usd-core)."""
+    from .run.diagnostics import Trajectory
+    from .run.exports import check_exports, write_exports
+
+    check_exports(list(paths))
+    m = sim.model
+    trajectory = Trajectory(m.body_mass_np, m.inertia_body_np, sim.params.dt, sim.substeps, sim.config.fp64)
+    trajectory.append_block(rows)
+    write_exports(list(paths), trajectory, sim)
+
+
+__all__ = ["init", "scene", "load_scene", "Simulator", "export", "load_units", "default_units", "SimConfig",
+           "ASSETS"]
