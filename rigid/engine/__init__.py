@@ -1,4 +1,13 @@
-"""The engine: Taichi fields and kernels that step the bodies (Model, State, the substep, the frame).
+"""The engine: one pipeline for one body or many, its kernels compiled once per process.
+
+  arrays.py     the argument packs the kernels take (Model, State, World, Scratch, Rows)
+  model.py      static data (Model); state.py: per-step State and runtime Params (+ the box's planes)
+  blocks.py     particles in compact blocks (the unit of work and of summation)
+  stages.py     the stages of a substep; contact.py: the one contact law; grid.py, scan.py: neighbours
+  schemes.py    the updates from (F, τ): explicit Euler (TODO 5-7), symplectic Euler, RK4
+  kernels.py    the kernels, cached per (TODO units, scheme); schedule.py: serial or parallel
+  rows.py       a row of state per frame, for the host; simulator.py: the facade
+  units.py      the TODO units' contract; rotation.py, matvec.py: helpers
 
 May import the base modules (``rigid.config``, ``rigid.errors``) and ``rigid.bodies``; never
 ``run``, ``view``, ``science``, ``bench``, ``report``, ``grading`` or the CLI: no drawing, no files.

@@ -93,10 +93,9 @@ def sort_cell(s: ti.template(), c):
 
 
 @ti.func
-def build_grid_serial(s: ti.template(), state: ti.template(), enabled):
-    """The whole build on one thread: scattering in slot order leaves every cell sorted.
-    ``enabled`` 0 (no pairs) makes every loop empty."""
-    C, N = s.grid_dims[1] * enabled, state.particle_x.shape[0] * enabled
+def build_grid_serial(s: ti.template(), state: ti.template()):
+    """The whole build on one thread: scattering in slot order leaves every cell sorted."""
+    C, N = s.grid_dims[1], state.particle_x.shape[0]
     for c in range(C):
         s.cell_count[c] = 0
     for i in range(N):
@@ -109,15 +108,14 @@ def build_grid_serial(s: ti.template(), state: ti.template(), enabled):
 
 
 @ti.func
-def build_grid_parallel(s: ti.template(), state: ti.template(), enabled):
-    """The build as top-level loops of a kernel (each runs in parallel), then each cell sorted.
-    ``enabled`` 0 (no pairs) makes every loop empty (a top-level ``if`` would make them serial)."""
-    C, N = s.grid_dims[1] * enabled, state.particle_x.shape[0] * enabled
+def build_grid_parallel(s: ti.template(), state: ti.template()):
+    """The build as top-level loops of a kernel (each runs in parallel), then each cell sorted."""
+    C, N = s.grid_dims[1], state.particle_x.shape[0]
     for c in range(C):
         s.cell_count[c] = 0
     for i in range(N):
         count_particle(s, state, i)
-    scan_parallel(s.cell_count, s.cell_start, s.chunk_total, C, s.grid_dims[2] * enabled)
+    scan_parallel(s.cell_count, s.cell_start, s.chunk_total, C, s.grid_dims[2])
     for c in range(C):
         s.cell_cursor[c] = s.cell_start[c]
     for i in range(N):

@@ -23,19 +23,21 @@ from .rows import write_row
 _CACHE: dict = {}
 
 
-def engine_kernels(units, scheme: str) -> "EngineKernels":
-    """The kernels for ``units`` (an object with the 7 TODO ``ti.func``s) and ``scheme``
-    ("euler", "symplectic", "rk4"), compiled on first use in this process."""
-    key = (id(units), scheme)
+def engine_kernels(units, scheme: str, pairs: bool) -> "EngineKernels":
+    """The kernels for ``units`` (an object with the 7 TODO ``ti.func``s), ``scheme`` ("euler",
+    "symplectic", "rk4") and whether bodies collide with one another (``pairs``: the grid and
+    pair stages are compiled only for scenes that need them, which halves a lone body's
+    compile time), compiled on first use in this process."""
+    key = (id(units), scheme, bool(pairs))
     entry = _CACHE.get(key)
     if entry is None or entry.units is not units:
-        entry = _CACHE[key] = EngineKernels(units, scheme)
+        entry = _CACHE[key] = EngineKernels(units, scheme, bool(pairs))
     return entry
 
 
 class EngineKernels:
-    def __init__(self, units, scheme: str):
-        self.units, self.scheme = units, scheme
+    def __init__(self, units, scheme: str, pairs: bool):
+        self.units, self.scheme, self.pairs = units, scheme, pairs
         u = units
         M, S, W, C, Rw, Sf = ModelArgs(), StateArgs(), WorldArgs(), ScratchArgs(), RowArgs(), SurfaceArgs()
         rk4 = scheme == "rk4"
@@ -43,13 +45,13 @@ class EngineKernels:
 
         @ti.func
         def forces_serial(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template()):
-            if stages.has_pairs(world):
+            if ti.static(pairs):
                 stages.place_particles(model, state)
-                grid.build_grid_serial(scratch, state, 1)
+                grid.build_grid_serial(scratch, state)
                 for i in range(state.particle_x.shape[0]):
                     stages.pair_stage(model, state, world, scratch, i)
             for k in range(model.block_start.shape[0]):
-                stages.block_forces(u, model, state, world, scratch, k)
+                stages.block_forces(u, model, state, world, scratch, k, pairs)
 
         @ti.func
         def substep_serial(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template()):
@@ -79,23 +81,24 @@ class EngineKernels:
                 for _step in range(substeps):
                     substep_serial(model, state, world, scratch)
                 stages.place_particles(model, state)
-                grid.build_grid_serial(scratch, state, ti.cast(stages.has_pairs(world), ti.i32))
+                if ti.static(pairs):
+                    grid.build_grid_serial(scratch, state)
                 energy = 0.0
                 for i in range(state.particle_x.shape[0]):
-                    energy += stages.particle_contact_energy(model, state, world, scratch, i)
+                    energy += stages.particle_contact_energy(model, state, world, scratch, i, pairs)
                 write_row(state, rows, frame, energy)
 
         @ti.func
         def forces_parallel(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template()):
-            # Top-level loops (parallel); without pairs the first stages loop over nothing.
-            pairs = ti.cast(stages.has_pairs(world), ti.i32)
-            for i in range(state.particle_x.shape[0] * pairs):
-                stages.place_particle(model, state, i)
-            grid.build_grid_parallel(scratch, state, pairs)
-            for i in range(state.particle_x.shape[0] * pairs):  # in slot order: neighbours close in memory
-                stages.pair_stage(model, state, world, scratch, i)
+            # Top-level loops (parallel).
+            if ti.static(pairs):
+                for i in range(state.particle_x.shape[0]):
+                    stages.place_particle(model, state, i)
+                grid.build_grid_parallel(scratch, state)
+                for i in range(state.particle_x.shape[0]):  # in slot order: neighbours close in memory
+                    stages.pair_stage(model, state, world, scratch, i)
             for k in range(model.block_start.shape[0]):
-                stages.block_forces(u, model, state, world, scratch, k)
+                stages.block_forces(u, model, state, world, scratch, k, pairs)
 
         @ti.kernel
         def substep(model: M, state: S, world: W, scratch: C):
@@ -120,9 +123,10 @@ class EngineKernels:
         @ti.kernel
         def finish_frame(model: M, state: S, world: W, scratch: C, rows: Rw, slot: ti.i32):
             stages.place_particles(model, state)
-            grid.build_grid_parallel(scratch, state, ti.cast(stages.has_pairs(world), ti.i32))
+            if ti.static(pairs):
+                grid.build_grid_parallel(scratch, state)
             for i in range(state.particle_x.shape[0]):  # the terms in parallel, summed in order below
-                scratch.particle_energy[i] = stages.particle_contact_energy(model, state, world, scratch, i)
+                scratch.particle_energy[i] = stages.particle_contact_energy(model, state, world, scratch, i, pairs)
             ti.loop_config(serialize=True)
             for _ in range(1):
                 energy = 0.0

@@ -50,14 +50,14 @@ class Simulator:
         self.bodies = scene_bodies(config) if bodies is None else list(bodies)
         if config.walls:
             check_inside_box(self.bodies, config.floor, config.wall, use_radius=True)
-        self.kernels = engine_kernels(units, config.integrator)
+        self.kernels = engine_kernels(units, config.integrator, pairs=len(self.bodies) > 1)
         parts = [BodyParts(b.geometry.particles, b.geometry.vertices, b.geometry.faces, b.particle_mass,
                            b.radius, b.name) for b in self.bodies]
         self.model = Model(parts, self.kernels)
         B, N = self.model.num_bodies, self.model.num_particles
         pairs = B > 1
         self.state = State(B, N)
-        self.params = Params(config, pairs)
+        self.params = Params(config)
         self.rows = FrameRows(B)
         self._scratch(B, N, pairs)
         self.schedule = choose_schedule(N, pairs, schedule)

@@ -19,7 +19,7 @@ import taichi as ti
 from . import grid
 from .contact import pair_force, plane_force
 from .matvec import matvec
-from .state import DAMPING, FRICTION, GX, NUM_PLANES, PAIRS, STIFFNESS
+from .state import DAMPING, FRICTION, GX, NUM_PLANES, STIFFNESS
 
 # A block's reach test is padded by this fraction of the coordinates' size (~170 float32
 # ulps), covering the round-off of pᵢ = x + R r0ᵢ: a skipped plane is exactly one no particle
@@ -36,11 +36,6 @@ def contact_constants(world: ti.template()):
 @ti.func
 def gravity(world: ti.template()):
     return ti.Vector([world.values[GX], world.values[GX + 1], world.values[GX + 2]])
-
-
-@ti.func
-def has_pairs(world: ti.template()):
-    return world.values[PAIRS] > 0
 
 
 @ti.func
@@ -197,13 +192,10 @@ def _block_share(u: ti.template(), model: ti.template(), state: ti.template(), w
 
 @ti.func
 def block_forces(u: ti.template(), model: ti.template(), state: ti.template(), world: ti.template(),
-                 scratch: ti.template(), k):
-    """Stage 3b for block k: its particles' forces (TODO 2 + planes + pairs) and the block's
-    share of F (TODO 3) and τ (TODO 4), summed in slot order into scratch.partial_F, partial_tau."""
-    if has_pairs(world):
-        _block_share(u, model, state, world, scratch, k, True)
-    else:
-        _block_share(u, model, state, world, scratch, k, False)
+                 scratch: ti.template(), k, pairs: ti.template()):
+    """Stage 3b for block k: its particles' forces (TODO 2 + planes + pairs if ``pairs``) and the
+    block's share of F (TODO 3) and τ (TODO 4), summed in slot order into scratch.partial_F, partial_tau."""
+    _block_share(u, model, state, world, scratch, k, pairs)
 
 
 @ti.func
@@ -220,7 +212,7 @@ def body_wrench(model: ti.template(), scratch: ti.template(), b):
 
 @ti.func
 def particle_contact_energy(model: ti.template(), state: ti.template(), world: ti.template(),
-                            scratch: ti.template(), i):
+                            scratch: ti.template(), i, pairs: ti.template()):
     """The springs' energy ½ k δ² at slot i: every static plane, and half of each pair's."""
     b = model.particle_body[i]
     stiffness, kd, mu = contact_constants(world)
@@ -229,7 +221,7 @@ def particle_contact_energy(model: ti.template(), state: ti.template(), world: t
         _f, e = plane_force(state.particle_x[i], state.particle_v[i], model.particle_radius[b], world.planes[j],
                             stiffness, kd, mu)
         energy += e
-    if has_pairs(world):
+    if ti.static(pairs):
         _f, _c, e = pair_forces(model, state, world, scratch, i)
         energy += e
     return energy

@@ -23,8 +23,8 @@ import numpy as np
 from .arrays import StateArgs, WorldArgs, float_dtype, zeros
 
 # Slots of WorldArgs.values.
-DT, STIFFNESS, DAMPING, FRICTION, GX, GY, GZ, NUM_PLANES, PAIRS = range(9)
-NUM_VALUES = 9
+DT, STIFFNESS, DAMPING, FRICTION, GX, GY, GZ, NUM_PLANES = range(8)
+NUM_VALUES = 8
 MAX_PLANES = 16
 
 
@@ -43,12 +43,10 @@ class Params:
     NAMES = ("dt", "collision_stiffness", "velocity_damping_stiffness", "friction_stiffness",
              "floor", "wall")
 
-    def __init__(self, config, pairs: bool):
-        """``pairs``: whether bodies collide with one another (B > 1)."""
+    def __init__(self, config):
         self.values = zeros(NUM_VALUES)
         self.planes = zeros(MAX_PLANES, "v4")
         self.args = WorldArgs()(values=self.values, planes=self.planes)
-        self._pairs = bool(pairs)
         self._loading = True
         self.load(config)
 
@@ -85,7 +83,6 @@ class Params:
                                                       self.velocity_damping_stiffness, self.friction_stiffness)
         values[GX:GZ + 1] = self.gravity
         values[NUM_PLANES] = len(planes)
-        values[PAIRS] = float(self._pairs)
         self.values.from_numpy(values.astype(host))
         padded = np.zeros((MAX_PLANES, 4))
         padded[:len(planes)] = planes
