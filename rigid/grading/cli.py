@@ -38,8 +38,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--points", metavar="P1,...,P7",
                    help="points of TODOs 1..7 (default " + ",".join(f"{v:g}" for v in DEFAULT_POINTS.values()) + ")")
     p.add_argument("--timeout", type=float, default=60.0, metavar="S",
-                   help="wall-time limit of each stage of grading one submission: its import, each TODO's "
-                        "check, each simulation (default 60)")
+                   help="time limit of each stage of grading one submission (its import, each TODO's "
+                        "check, each simulation): CPU seconds, or wall seconds of a stage that waits "
+                        "doing nothing (default 60)")
     p.add_argument("--memory-mb", type=int, default=4096, metavar="MB",
                    help=f"address-space limit of each grading process (default 4096, at least {MIN_MEMORY_MB}: "
                         f"Taichi's LLVM alone needs ~1800)")

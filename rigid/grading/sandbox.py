@@ -3,10 +3,14 @@
 ``run_child(args, box, events, limits)`` starts ``python -m rigid.grading.child``
 in its own session (process group) with cwd and HOME in ``box``, a small clean
 environment, memory/file-size limits (set by the child on itself before
-anything else loads) and a wall-time limit *per stage*: the child writes a
-line when it starts a stage (import, each TODO's check, each trajectory run),
-and the parent kills the whole process group when one stage outlasts
-``limits.stage_seconds``. stdout and stderr (shared with the submission) are
+anything else loads) and a time limit *per stage*: the child writes a line
+when it starts a stage (import, each TODO's check, each trajectory run), and
+the parent kills the whole process group when one stage has used
+``limits.stage_seconds`` of CPU time (a busy endless loop), or has waited that
+long in wall time while using almost no CPU (an endless ``sleep``, a blocked
+read). CPU time, not wall time, so that a stage's fate does not depend on how
+loaded the machine is: on 2 shared cores a compile that takes 5 CPU seconds
+can take 30 s of wall time, and used to run out of a wall-clock limit. stdout and stderr (shared with the submission) are
 drained by a thread into a bounded head + tail, so a print flood costs only
 CPU time. Returns what happened; interpreting it is grade.py's job.
 
@@ -30,9 +34,12 @@ from ..config import REPO_ROOT
 OUTPUT_KEEP = 2000  # characters kept from the start and from the end of the child's output
 
 
+IDLE_SHARE = 0.02  # a stage using less CPU than this share of its wall time is waiting, not working
+
+
 @dataclass
 class Limits:
-    stage_seconds: float = 60.0
+    stage_seconds: float = 60.0  # CPU seconds per stage (and wall seconds of a stage that waits)
     memory_mb: int = 4096
     file_mb: int = 64
 
@@ -101,11 +108,15 @@ def run_child(args: list, box: Path, events_path: Path, limits: Limits) -> Child
     drain = _Drain(proc.stdout)
     drain.start()
     reader = _EventReader(events_path)
-    stage_start, timed_out = start, False
+    stage_wall, stage_cpu, timed_out = start, 0.0, False
     while proc.poll() is None:
+        now, cpu = time.monotonic(), _cpu_seconds(proc.pid)
         if reader.poll():
-            stage_start = time.monotonic()
-        if time.monotonic() - stage_start > limits.stage_seconds:
+            stage_wall, stage_cpu = now, cpu
+        used, waited = cpu - stage_cpu, now - stage_wall
+        if cpu < 0:  # no /proc (not Linux): wall time alone
+            used = waited
+        if used > limits.stage_seconds or (waited > limits.stage_seconds and used < IDLE_SHARE * waited):
             timed_out = True
             break
         time.sleep(0.05)
@@ -115,6 +126,17 @@ def run_child(args: list, box: Path, events_path: Path, limits: Limits) -> Child
     reader.poll()
     return ChildRun(returncode=None if timed_out else proc.returncode, timed_out=timed_out,
                     events=reader.events, output=drain.text(), seconds=time.monotonic() - start)
+
+
+def _cpu_seconds(pid: int) -> float:
+    """User + system CPU seconds of process ``pid`` (all its threads: Taichi compiles on several),
+    from /proc; -1 where there is no /proc."""
+    try:
+        with open(f"/proc/{pid}/stat", "rb") as f:
+            fields = f.read().rsplit(b")", 1)[1].split()
+    except OSError:
+        return -1.0
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")  # utime, stime
 
 
 def _kill_group(proc) -> None:
