@@ -1,6 +1,7 @@
 """TA tools: the student handout and the autograder (see scripts/make_handout.py, scripts/grade.py).
 
 - handout.py      the student starter from rigid_body_dynamic.py (TODO bodies -> hints + placeholders)
+- bundle.py       write the handout with its answers file, or the zip of all a student needs
 - submissions.py  find submissions in files, folders and zips
 - batch.py        grade many in parallel, one sandboxed child process each (sandbox.py)
 - child.py        inside the child: import the submission, check each TODO, report events

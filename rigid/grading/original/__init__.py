@@ -7,6 +7,7 @@ marker), and runs a GGUI ``while window.running:`` loop at module level.
 
 - detect.py     which format a submission is in
 - regions.py    where each TODO's code starts and ends, its kernel, loop and shared local names
+- handout_shape.py  the handout's markers, titles and given code, as tables and regexes (read by regions.py)
 - scan.py       which lines continue a statement (brackets, strings), for a file that may not parse
 - reference.py  the project's reference lines for each TODO, written for the handout's names
 - variants.py   the file with some regions replaced, other parameters, the grader's harness kernels

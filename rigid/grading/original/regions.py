@@ -31,55 +31,14 @@ the handout TODOs 3 and 4 sit in loops too) and, for TODOs 1, 3 and 4, the local
 variable it hands on (the inertia, the total force, the total torque): the one the
 given code declares before it (before its loop, as the handout does for
 ``body_force`` and ``body_torque``), or failing that the one the student's region
-assigns and later code reads.
+assigns and later code reads. The tables named in capitals are in handout_shape.py.
 """
 import re
 from dataclasses import dataclass, field
 
+from .handout_shape import ANCHORS, END_MARKER, EXPECTED, GIVEN_WORDS, JOB, MARKER, NORMALISE, SHARED, TITLES, WRITES
 from .scan import continuation_lines, indent_of
 
-MARKER = re.compile(r"^(?P<indent>[ \t]*)#+\s*TODO\s*[:#.(\[-]?\s*(?P<k>[1-7])(?![0-9]|\.[0-9])\s*[:.)\]-]?\s*"
-                    r"(?P<title>.*)$", re.IGNORECASE)
-END_MARKER = re.compile(r"^\s*#\s*END\s+TODO", re.IGNORECASE)
-GIVEN_WORDS = ("collision", "comput", "update", "normali", "given", "render", "draw")
-SHARED = {1: "inertia", 3: "body_force", 4: "body_torque"}  # default names of the locals handed on
-TITLES = {  # the handout's titles, to pick the marker when a TODO's number appears on two comment lines
-    1: "Compute the inertia tensor of the body", 2: "gravity", 3: "compute the force for rigid body",
-    4: "compute the torque for rigid body", 5: "update the center of mass position and velocity",
-    6: "update the rotation quaternion", 7: "update, the angular momentum, inertia tensor and angular velocity",
-}
-EXPECTED = {  # where the handout has each marker, for the message when one is missing
-    1: "in initial(), after `inertia = ti.Matrix(...)`",
-    2: "in substep(), first in the loop over the particles, before the collision force",
-    3: "in substep(), inside the loop after `body_force = ti.Vector([0.0, 0.0, 0.0])`",
-    4: "in substep(), inside the loop after `body_torque = ti.Vector([0.0, 0.0, 0.0])`",
-    5: "in substep(), after the torque loop",
-    6: "in substep(), before `# normalize the quaternion to avoid numerical error`",
-    7: "in substep(), after `body_rotation[None] = quaternion_to_matrix(...)`, before `# update the particles`",
-}
-JOB = {  # what the code of each TODO does, to tell a student's comment from the given code's
-    1: r"outer_product|particle_origin_vertices|particle_vertices",
-    2: r"\bgravity\b",
-    3: r"particle_force\s*\[",
-    4: r"cross",
-    5: r"\b(body_cm_position|body_velocity)\s*\[\s*None\s*\]\s*[-+*/]?=(?!=)",
-    6: r"\bdt\b",
-    7: r"\b(body_angular_momentum|body_angular_velocity)\s*\[\s*None\s*\]\s*[-+*/]?=(?!=)",
-}
-WRITES = {  # a code line that does TODO k's job (ends an earlier region when TODO k's marker is missing)
-    5: re.compile(r"^(body_cm_position|body_velocity)\s*\[\s*None\s*\]\s*[-+*/]?=(?!=)"),
-    6: re.compile(r"^body_rotation_quaternion\s*\[\s*None\s*\]\s*[-+*/]?=(?!=)"),
-    7: re.compile(r"^(body_angular_momentum|body_angular_velocity)\s*\[\s*None\s*\]\s*[-+*/]?=(?!=)"),
-}
-ANCHORS = {  # given code that follows each TODO in the handout (a code line no more indented than the marker)
-    1: re.compile(r"^(body_origin_inverse_inertia|body_angular_momentum|body_velocity)\s*\[|^body_force\s*=(?!=)"
-                  r"|^body_torque\s*=(?!=)"),
-    2: re.compile(r"^if\s+particle_vertices\s*\[|^body_force\s*=(?!=)|^body_torque\s*=(?!=)"),
-    3: re.compile(r"^body_torque\s*=(?!=)"),
-    6: re.compile(r"^body_rotation\s*\[\s*None\s*\]\s*=(?!=)"),
-    7: re.compile(r"^for\b.*\bparticle_vertices\b|^particle_vertices\s*\["),
-}
-NORMALISE = re.compile(r"^body_rotation_quaternion\s*\[\s*None\s*\]\s*(/=|=).*\b(norm|normalized)\s*\(")
 DEF = re.compile(r"^(?P<indent>[ \t]*)def\s+(?P<name>[A-Za-z_]\w*)\s*\(")
 FOR = re.compile(r"^\s*for\s+(?P<var>[A-Za-z_]\w*)\s+in\b.*:\s*(#.*)?$")
 ASSIGN = re.compile(r"^\s*(?P<name>[A-Za-z_]\w*)\s*(?P<op>\+?=)(?!=)")
