@@ -32,10 +32,18 @@ from grading_variants import CORRECT, SOLUTION, WRONG, make
 from rigid.grading.handout import make_handout
 
 MISBEHAVING = ("crash_at_import", "exit_at_import", "hang_at_import", "hang_in_todo6", "memory_hog")
-TIMEOUT = 10  # a stage's limit; 5 s failed once in a fresh clone (cold kernel cache, two xdist workers):
-# hang_in_todo6's first stage, which compiles the whole file, ran out of time and the file scored 0
-ORIGINAL = (*original.FULL, "unsolved", "hang_in_todo6", *(n for n in original.WRONG if n != "mistakes_b"))
-ORIGINAL_TIMEOUT = 20  # a stage compiles and runs the whole file: 10 s ran out beside the other batches
+TIMEOUT = 10  # a stage's limit in CPU seconds (rigid.grading.sandbox), the same on a loaded machine;
+# an endless sleep is stopped after as many wall seconds
+# End to end, the original format's variants that the in-process tests (test_grading_original.py:
+# regions, markers, layout) cannot show: each grading costs ~8 CPU-s (the file's kernels compile for
+# each version of it), so the single-TODO slips that mistakes_a and mistakes_b combine (TODOs 2, 4, 6
+# and 1, 3, 5, 7, the same messages, the other TODOs full) are not graded again one by one, nor the
+# marker and layout variants, whose regions test_grading_original.py checks line by line.
+COMBINED = ("t1_no_mass", "t2_no_mass", "t3_sign", "t4_swapped_cross", "t5_no_dt", "t6_no_half", "t7_order")
+BATCH_FULL = tuple(n for n in original.FULL if n not in ("marker_variants", "layout"))
+BATCH_WRONG = tuple(sorted(n for n in original.WRONG if n not in COMBINED))
+ORIGINAL = (*BATCH_FULL, "unsolved", "hang_in_todo6", *(n for n in BATCH_WRONG if n != "mistakes_b"))
+ORIGINAL_TIMEOUT = 20  # CPU seconds: a stage compiles and runs the whole file
 
 
 def _grade(folder: Path, out: Path, *extra) -> subprocess.Popen:
@@ -140,8 +148,10 @@ def test_misbehaving_submissions_lose_only_their_points_within_the_limit(batches
     hang6 = res["hang_in_todo6"]
     assert points(hang6)[6] == 0 and hang6["total"] == 75  # the other six TODOs graded in a fresh process
     assert "update_orientation did not finish" in hang6["todos"]["6"]["message"]
-    assert res["hang_at_import"]["seconds"] < TIMEOUT + 5
-    assert hang6["seconds"] < 2 * TIMEOUT + 20
+    # Hang guards, not timings: stopped after about the limit, not left to run (generous for a loaded
+    # machine, where the import before the endless loop is slow in wall time).
+    assert res["hang_at_import"]["seconds"] < 6 * TIMEOUT
+    assert hang6["seconds"] < 12 * TIMEOUT
     orig6 = batches["result"]["original"]["hang_in_todo6"]  # the original format: the same isolation
     assert points(orig6)[6] == 0 and orig6["total"] == 75 and orig6["format"] == "original"
     assert f"the code under '# TODO 6:' did not finish within {ORIGINAL_TIMEOUT} s" in orig6["todos"]["6"]["message"]
@@ -162,7 +172,7 @@ def test_csv_has_a_row_per_submission_and_a_column_per_todo(batches):
           f"{batches['elapsed']:.1f} s")
 
 
-@pytest.mark.parametrize("name", original.FULL)
+@pytest.mark.parametrize("name", BATCH_FULL)
 def test_original_format_right_files_score_full_with_their_notes(batches, name):
     r = batches["result"]["original"][name]
     assert r["format"] == "original" and r["total"] == 90, (name, r["todos"])
@@ -192,7 +202,7 @@ def test_batch_summary_beside_the_csv(batches):
     assert "Batch summary" in batches["stdout"]["original"]
 
 
-@pytest.mark.parametrize("name", sorted(original.WRONG))
+@pytest.mark.parametrize("name", BATCH_WRONG)
 def test_original_format_mistakes_lose_exactly_their_todos(batches, name):
     res = batches["result"]["original"]
     r = res[name] if name in res else res["3035000002_dan_assignment3"]

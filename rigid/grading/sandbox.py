@@ -7,8 +7,8 @@ anything else loads) and a time limit *per stage*: the child writes a line
 when it starts a stage (import, each TODO's check, each trajectory run), and
 the parent kills the whole process group when one stage has used
 ``limits.stage_seconds`` of CPU time (a busy endless loop), or has waited that
-long in wall time while using almost no CPU (an endless ``sleep``, a blocked
-read). CPU time, not wall time, so that a stage's fate does not depend on how
+long in wall time while using almost no CPU over the last that many seconds
+(an endless ``sleep``, a blocked read). CPU time, not wall time, so that a stage's fate does not depend on how
 loaded the machine is: on 2 shared cores a compile that takes 5 CPU seconds
 can take 30 s of wall time, and used to run out of a wall-clock limit. stdout and stderr (shared with the submission) are
 drained by a thread into a bounded head + tail, so a print flood costs only
@@ -19,6 +19,7 @@ deliberately uses absolute paths can read or write that user's files, open
 network connections, or fake its own events. Run batches of untrusted code in
 a container or as an unprivileged user if that matters (see the README).
 """
+import collections
 import json
 import os
 import signal
@@ -109,14 +110,21 @@ def run_child(args: list, box: Path, events_path: Path, limits: Limits) -> Child
     drain.start()
     reader = _EventReader(events_path)
     stage_wall, stage_cpu, timed_out = start, 0.0, False
+    recent = collections.deque()  # (wall, cpu) samples of the last stage_seconds
     while proc.poll() is None:
         now, cpu = time.monotonic(), _cpu_seconds(proc.pid)
         if reader.poll():
             stage_wall, stage_cpu = now, cpu
+            recent.clear()
+        recent.append((now, cpu))
+        while len(recent) > 1 and now - recent[1][0] >= limits.stage_seconds:
+            recent.popleft()  # keep the newest sample at least stage_seconds old
         used, waited = cpu - stage_cpu, now - stage_wall
         if cpu < 0:  # no /proc (not Linux): wall time alone
             used = waited
-        if used > limits.stage_seconds or (waited > limits.stage_seconds and used < IDLE_SHARE * waited):
+        # Waiting: over the last stage_seconds of wall time, almost no CPU.
+        idle = waited > limits.stage_seconds and cpu - recent[0][1] < IDLE_SHARE * (now - recent[0][0])
+        if used > limits.stage_seconds or idle:
             timed_out = True
             break
         time.sleep(0.05)
