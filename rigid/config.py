@@ -108,9 +108,6 @@ class SimConfig:
             raise UserError(f"count = {self.count!r}: use a whole number of copies from 1 to 1000000")
         for i in range(len(self.bodies)):
             self.body_config(i)  # raises "[[body]] i: ..." for a bad value in that table
-        if self.many_bodies and self.integrator == "rk4":
-            raise UserError("integrator = 'rk4' runs one body only; use 'symplectic' or 'euler' "
-                            "for scenes with several bodies")
         if self.dt > FRAME_TIME:
             raise UserError(f"dt = {self.dt} is longer than a frame (1/60 s); use --dt 1e-3 or smaller")
         if self.particles not in ("vertex", "volume"):

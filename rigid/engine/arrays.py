@@ -46,7 +46,7 @@ def _pack_type(members: dict):
 
 
 ModelArgs = _pack_type(dict(
-    r0=("v3", 1), r0_soa=("f", 2), particle_body=("i", 1), body_start=("i", 1), body_count=("i", 1),
+    r0=("v3", 1), r0_x=("f", 1), r0_y=("f", 1), r0_z=("f", 1), particle_body=("i", 1), body_start=("i", 1), body_count=("i", 1),
     particle_mass=("f", 1), particle_radius=("f", 1), body_mass=("f", 1),
     inertia_body=("m3", 1), inertia_body_inv=("m3", 1),
     block_start=("i", 1), block_count=("i", 1), block_body=("i", 1),
@@ -61,7 +61,7 @@ WorldArgs = _pack_type(dict(values=("f", 1), planes=("v4", 1)))
 ScratchArgs = _pack_type(dict(
     particle_f=("v3", 1), particle_couple=("v3", 1), particle_energy=("f", 1), partial_F=("v3", 1), partial_tau=("v3", 1),
     cell_count=("i", 1), cell_start=("i", 1), cell_cursor=("i", 1), particle_cell=("i", 1),
-    sorted_particle=("i", 1), chunk_total=("i", 1), grid_dims=("i", 1), grid_inv_cell=("f", 1),
+    sorted_particle=("i", 1), sorted_x=("v3", 1), sorted_body=("i", 1), chunk_total=("i", 1), grid_dims=("i", 1), grid_inv_cell=("f", 1),
     rk_base=("v13", 1), rk_step=("v13", 1), rk_sum=("v13", 1)))
 
 RowArgs = _pack_type(dict(body=("f", 3), contact_energy=("f", 1)))

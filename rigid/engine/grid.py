@@ -17,7 +17,8 @@ Neighbours of a particle: the 3 × 3 rows of 3 cells around it; a row's three ce
 consecutive in memory unless it wraps, so it is one range of sorted_particle.
 
 Scratch arrays (ScratchArgs): ``cell_count``, ``cell_cursor`` [C] i32, ``cell_start`` [C + 1] i32,
-``particle_cell``, ``sorted_particle`` [N] i32, ``grid_dims`` = (D, C, scan chunks) i32,
+``particle_cell``, ``sorted_particle`` [N] i32, and in that sorted order copies of each particle's
+``sorted_x`` [N] vec3 (world) and ``sorted_body`` [N] i32, ``grid_dims`` = (D, C, scan chunks) i32,
 ``grid_inv_cell`` = (1/h,) float. ``GridShape`` sizes them on the host.
 """
 
@@ -93,7 +94,16 @@ def sort_cell(s: ti.template(), c):
 
 
 @ti.func
-def build_grid_serial(s: ti.template(), state: ti.template()):
+def gather_sorted(s: ti.template(), model: ti.template(), state: ti.template(), k):
+    """Slot k of the sorted order: a copy of its particle's position and body, so that the pair
+    search streams through neighbours in memory order instead of jumping to each one."""
+    i = s.sorted_particle[k]
+    s.sorted_x[k] = state.particle_x[i]
+    s.sorted_body[k] = model.particle_body[i]
+
+
+@ti.func
+def build_grid_serial(s: ti.template(), model: ti.template(), state: ti.template()):
     """The whole build on one thread: scattering in slot order leaves every cell sorted."""
     C, N = s.grid_dims[1], state.particle_x.shape[0]
     for c in range(C):
@@ -105,10 +115,12 @@ def build_grid_serial(s: ti.template(), state: ti.template()):
         s.cell_cursor[c] = s.cell_start[c]
     for i in range(N):
         scatter_particle(s, i)
+    for k in range(N):
+        gather_sorted(s, model, state, k)
 
 
 @ti.func
-def build_grid_parallel(s: ti.template(), state: ti.template()):
+def build_grid_parallel(s: ti.template(), model: ti.template(), state: ti.template()):
     """The build as top-level loops of a kernel (each runs in parallel), then each cell sorted."""
     C, N = s.grid_dims[1], state.particle_x.shape[0]
     for c in range(C):
@@ -122,6 +134,8 @@ def build_grid_parallel(s: ti.template(), state: ti.template()):
         scatter_particle(s, i)
     for c in range(C):
         sort_cell(s, c)
+    for k in range(N):
+        gather_sorted(s, model, state, k)
 
 
 @ti.func

@@ -47,7 +47,7 @@ class EngineKernels:
         def forces_serial(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template()):
             if ti.static(pairs):
                 stages.place_particles(model, state)
-                grid.build_grid_serial(scratch, state)
+                grid.build_grid_serial(scratch, model, state)
                 for i in range(state.particle_x.shape[0]):
                     stages.pair_stage(model, state, world, scratch, i)
             for k in range(model.block_start.shape[0]):
@@ -82,7 +82,7 @@ class EngineKernels:
                     substep_serial(model, state, world, scratch)
                 stages.place_particles(model, state)
                 if ti.static(pairs):
-                    grid.build_grid_serial(scratch, state)
+                    grid.build_grid_serial(scratch, model, state)
                 energy = 0.0
                 for i in range(state.particle_x.shape[0]):
                     energy += stages.particle_contact_energy(model, state, world, scratch, i, pairs)
@@ -94,9 +94,9 @@ class EngineKernels:
             if ti.static(pairs):
                 for i in range(state.particle_x.shape[0]):
                     stages.place_particle(model, state, i)
-                grid.build_grid_parallel(scratch, state)
-                for i in range(state.particle_x.shape[0]):  # in slot order: neighbours close in memory
-                    stages.pair_stage(model, state, world, scratch, i)
+                grid.build_grid_parallel(scratch, model, state)
+                for c in range(state.particle_x.shape[0]):  # in cell order: neighbours close in memory
+                    stages.pair_stage(model, state, world, scratch, scratch.sorted_particle[c])
             for k in range(model.block_start.shape[0]):
                 stages.block_forces(u, model, state, world, scratch, k, pairs)
 
@@ -124,7 +124,7 @@ class EngineKernels:
         def finish_frame(model: M, state: S, world: W, scratch: C, rows: Rw, slot: ti.i32):
             stages.place_particles(model, state)
             if ti.static(pairs):
-                grid.build_grid_parallel(scratch, state)
+                grid.build_grid_parallel(scratch, model, state)
             for i in range(state.particle_x.shape[0]):  # the terms in parallel, summed in order below
                 scratch.particle_energy[i] = stages.particle_contact_energy(model, state, world, scratch, i, pairs)
             ti.loop_config(serialize=True)

@@ -7,7 +7,7 @@ most 64 particles, sorted along a Z-order curve). Device arrays (Taichi ndarrays
 is the run's precision, f32 or f64), all read-only during a run:
 
 - ``r0``                 [N] vec3   particle offset from its body's centre of mass, body frame
-- ``r0_soa``             [3, N] float  the same, as rows x, y, z (for vectorised loops)
+- ``r0_x``, ``r0_y``, ``r0_z``  [N] float  the same, one array per axis (for vectorised loops)
 - ``particle_body``      [N] i32    body of each particle
 - ``body_start``, ``body_count``  [B] i32   body b's particles are slots start .. start + count − 1
 - ``particle_mass``      [B] float  mass of each of the body's particles (all equal), kg
@@ -81,10 +81,9 @@ class Model:
         particle_body = np.repeat(np.arange(B), counts)
 
         self.r0 = device_array(self.r0_np, 3)
-        # The same offsets as three rows x, y, z (structure of arrays): the block loop loads 8 x,
+        # The same offsets as three arrays x, y, z (structure of arrays): the block loop loads 8 x,
         # 8 y, 8 z at once when LLVM vectorises it.
-        self.r0_soa = ti.ndarray(float_dtype(), (3, self.num_particles))
-        self.r0_soa.from_numpy(np.ascontiguousarray(self.r0_np.T, dtype=_host_float()))
+        self.r0_x, self.r0_y, self.r0_z = (device_array(self.r0_np[:, c]) for c in range(3))
         self.particle_body = device_array(particle_body, dtype=ti.i32)
         self.body_start = device_array(starts, dtype=ti.i32)
         self.body_count = device_array(counts, dtype=ti.i32)

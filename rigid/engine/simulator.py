@@ -73,7 +73,8 @@ class Simulator:
                       partial_F=zeros(self.model.num_blocks, "v3"), partial_tau=zeros(self.model.num_blocks, "v3"),
                       cell_count=zeros(shape.num_cells, "i"), cell_start=zeros(shape.num_cells + 1, "i"),
                       cell_cursor=zeros(shape.num_cells, "i"), particle_cell=zeros(N, "i"),
-                      sorted_particle=zeros(N, "i"), chunk_total=zeros(shape.num_chunks + 1, "i"),
+                      sorted_particle=zeros(N, "i"), sorted_x=zeros(N if pairs else 1, "v3"),
+                      sorted_body=zeros(N if pairs else 1, "i"), chunk_total=zeros(shape.num_chunks + 1, "i"),
                       grid_dims=device_array(np.array([shape.dim, shape.num_cells, shape.num_chunks]), dtype=ti.i32),
                       grid_inv_cell=device_array(np.array([1.0 / cell])),
                       rk_base=zeros(B, "v13"), rk_step=zeros(B, "v13"), rk_sum=zeros(B, "v13"))

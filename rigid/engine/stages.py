@@ -98,10 +98,9 @@ def pair_forces(model: ti.template(), state: ti.template(), world: ti.template()
             for part in range(3):
                 lo, hi = grid.row_range(scratch, g[0], g[1] + dy, g[2] + dz, part)
                 for slot in range(lo, hi):
-                    j = scratch.sorted_particle[slot]
-                    b = model.particle_body[j]
+                    b = scratch.sorted_body[slot]
                     if b != a:
-                        fp, cp, ep = pair_force(p, state.particle_x[j], r_a, model.particle_radius[b],
+                        fp, cp, ep = pair_force(p, scratch.sorted_x[slot], r_a, model.particle_radius[b],
                                                 x_a, v_a, w_a, state.x[b], state.v[b], state.omega[b], k, kd, mu)
                         f += fp
                         couple += cp
@@ -134,7 +133,7 @@ def _block_loop(u: ti.template(), model: ti.template(), world: ti.template(), sc
     stiffness, kd, mu = contact_constants(world)
     radius = model.particle_radius[b]
     for i in range(start, end):
-        r0 = ti.Vector([model.r0_soa[0, i], model.r0_soa[1, i], model.r0_soa[2, i]])
+        r0 = ti.Vector([model.r0_x[i], model.r0_y[i], model.r0_z[i]])
         r = matvec(R, r0)
         p = x + r
         f = u.gravity_force(m, g)
