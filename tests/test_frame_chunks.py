@@ -103,6 +103,30 @@ def test_the_parallel_schedule_follows_the_serial_one(units, many):
     np.testing.assert_allclose(parallel["potential_energy"], serial["potential_energy"], rtol=1e-3, atol=1e-3)
 
 
+@pytest.mark.parametrize("schedule", ["serial", "parallel"])
+def test_prepared_launches_are_the_plain_kernel_calls(units, schedule):
+    """The Simulator launches its kernels with their arguments set once (rigid.engine.launch):
+    the same bits as Taichi's own calls of the same kernels, frame after frame."""
+    from rigid.config import SimConfig
+    from rigid.engine.simulator import Simulator
+
+    config = SimConfig(fp64=False, count=3, scale=0.25, initial_velocity=(4.0, -2.0, 1.0)).validate()
+    prepared, plain = Simulator(config, units, schedule=schedule), Simulator(config, units, schedule=schedule)
+    rows = prepared.advance_frames(12)
+    assert all(launch.prepared for launch in prepared._launches.values())
+    k, m, s, w, c, r = plain.kernels, plain.model.args, plain.state.args, plain.params.args, plain.scratch, plain.rows.args
+    for frame in range(12):
+        if schedule == "serial":
+            k.run_frames(m, s, w, c, r, 1, plain.substeps)
+        else:
+            for _ in range(plain.substeps):
+                k.substep(m, s, w, c)
+            k.finish_frame(m, s, w, c, r, 0)
+        got = plain._block([0.0])
+        for key in KEYS:
+            assert np.array_equal(got[key][0], rows[key][frame]), (frame, key)
+
+
 def test_advance_frames_runs_past_the_row_buffer_in_chunks(sim_cache):
     """No silent cap: more frames than one chunk's rows are several launches, one row each."""
     sim = sim_cache(**THROWN)

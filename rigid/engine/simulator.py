@@ -20,6 +20,7 @@ from ..bodies.placement import BodySpec, check_inside_box, scene_bodies
 from .arrays import ScratchArgs, device_array, zeros
 from .grid import GridShape
 from .kernels import engine_kernels
+from .launch import PreparedLaunch
 from .model import BodyParts, Model
 from .rows import FrameRows, split_rows
 from .schedule import choose_schedule
@@ -61,6 +62,7 @@ class Simulator:
         self.rows = FrameRows(B)
         self._scratch(B, N, pairs)
         self.schedule = choose_schedule(N, pairs, schedule)
+        self._launches = None
         self._surface_out = np.empty((max(self.model.num_surface, 1), 3),
                                      np.float64 if self.rows.body.dtype.to_string() == "f64" else np.float32)
         self.reset()
@@ -184,14 +186,19 @@ class Simulator:
 
     def _run(self, frames: int, substeps: int):
         """``frames`` frames of ``substeps`` substeps, rows 0 .. frames − 1 written."""
-        k, m, s, w, c, r = self.kernels, self.model.args, self.state.args, self.params.args, self.scratch, self.rows.args
+        if self._launches is None:  # made on first use: a Simulator only read costs nothing here
+            k, m, s, w, c, r = self.kernels, self.model.args, self.state.args, self.params.args, self.scratch, self.rows.args
+            self._launches = dict(run_frames=PreparedLaunch(k.run_frames, m, s, w, c, r, 1, 1),
+                                  substep=PreparedLaunch(k.substep, m, s, w, c),
+                                  finish_frame=PreparedLaunch(k.finish_frame, m, s, w, c, r, 0))
+        launch = self._launches
         if self.schedule == "serial":
-            k.run_frames(m, s, w, c, r, frames, substeps)
+            launch["run_frames"](frames=frames, substeps=substeps)
             return
         for frame in range(frames):
             for _ in range(substeps):
-                k.substep(m, s, w, c)
-            k.finish_frame(m, s, w, c, r, frame)
+                launch["substep"]()
+            launch["finish_frame"](slot=frame)
 
     def apply_impulse(self, particle: int, impulse):
         """Hit particle ``particle`` (its index in the mesh files' order, body after body) with
