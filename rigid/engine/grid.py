@@ -103,13 +103,18 @@ def gather_sorted(s: ti.template(), model: ti.template(), state: ti.template(), 
 
 
 @ti.func
-def build_grid_serial(s: ti.template(), model: ti.template(), state: ti.template()):
-    """The whole build on one thread: scattering in slot order leaves every cell sorted."""
-    C, N = s.grid_dims[1], state.particle_x.shape[0]
-    for c in range(C):
+def clear_counts(s: ti.template()):
+    for c in range(s.grid_dims[1]):
         s.cell_count[c] = 0
-    for i in range(N):
-        count_particle(s, state, i)
+
+
+# A build is clear_counts, then count_particle for every particle (the engine fuses it into
+# the loop that places the particles: one pass, one parallel task less), then finish_*.
+
+@ti.func
+def finish_serial(s: ti.template(), model: ti.template(), state: ti.template()):
+    """The rest of the build on one thread: scattering in slot order leaves every cell sorted."""
+    C, N = s.grid_dims[1], state.particle_x.shape[0]
     scan_serial(s.cell_count, s.cell_start, C)
     for c in range(C):
         s.cell_cursor[c] = s.cell_start[c]
@@ -120,13 +125,10 @@ def build_grid_serial(s: ti.template(), model: ti.template(), state: ti.template
 
 
 @ti.func
-def build_grid_parallel(s: ti.template(), model: ti.template(), state: ti.template()):
-    """The build as top-level loops of a kernel (each runs in parallel), then each cell sorted."""
+def finish_parallel(s: ti.template(), model: ti.template(), state: ti.template()):
+    """The rest of the build as top-level loops of a kernel (each runs in parallel); each cell is
+    then sorted by slot and its copies gathered."""
     C, N = s.grid_dims[1], state.particle_x.shape[0]
-    for c in range(C):
-        s.cell_count[c] = 0
-    for i in range(N):
-        count_particle(s, state, i)
     scan_parallel(s.cell_count, s.cell_start, s.chunk_total, C, s.grid_dims[2])
     for c in range(C):
         s.cell_cursor[c] = s.cell_start[c]
@@ -134,8 +136,8 @@ def build_grid_parallel(s: ti.template(), model: ti.template(), state: ti.templa
         scatter_particle(s, i)
     for c in range(C):
         sort_cell(s, c)
-    for k in range(N):
-        gather_sorted(s, model, state, k)
+        for k in range(s.cell_start[c], s.cell_start[c + 1]):
+            gather_sorted(s, model, state, k)
 
 
 @ti.func

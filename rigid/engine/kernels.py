@@ -46,8 +46,8 @@ class EngineKernels:
         @ti.func
         def forces_serial(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template()):
             if ti.static(pairs):
-                stages.place_particles(model, state)
-                grid.build_grid_serial(scratch, model, state)
+                stages.place_particles_in_grid(model, state, scratch)
+                grid.finish_serial(scratch, model, state)
                 for i in range(state.particle_x.shape[0]):
                     stages.pair_stage(model, state, world, scratch, i)
             for k in range(model.block_start.shape[0]):
@@ -80,9 +80,11 @@ class EngineKernels:
             for frame in range(frames):
                 for _step in range(substeps):
                     substep_serial(model, state, world, scratch)
-                stages.place_particles(model, state)
                 if ti.static(pairs):
-                    grid.build_grid_serial(scratch, model, state)
+                    stages.place_particles_in_grid(model, state, scratch)
+                    grid.finish_serial(scratch, model, state)
+                else:
+                    stages.place_particles(model, state)
                 energy = 0.0
                 for i in range(state.particle_x.shape[0]):
                     energy += stages.particle_contact_energy(model, state, world, scratch, i, pairs)
@@ -92,9 +94,8 @@ class EngineKernels:
         def forces_parallel(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template()):
             # Top-level loops (parallel).
             if ti.static(pairs):
-                for i in range(state.particle_x.shape[0]):
-                    stages.place_particle(model, state, i)
-                grid.build_grid_parallel(scratch, model, state)
+                stages.place_particles_in_grid(model, state, scratch)
+                grid.finish_parallel(scratch, model, state)
                 for c in range(state.particle_x.shape[0]):  # in cell order: neighbours close in memory
                     stages.pair_stage(model, state, world, scratch, scratch.sorted_particle[c])
             for k in range(model.block_start.shape[0]):
@@ -122,9 +123,11 @@ class EngineKernels:
 
         @ti.kernel
         def finish_frame(model: M, state: S, world: W, scratch: C, rows: Rw, slot: ti.i32):
-            stages.place_particles(model, state)
             if ti.static(pairs):
-                grid.build_grid_parallel(scratch, model, state)
+                stages.place_particles_in_grid(model, state, scratch)
+                grid.finish_parallel(scratch, model, state)
+            else:
+                stages.place_particles(model, state)
             for i in range(state.particle_x.shape[0]):  # the terms in parallel, summed in order below
                 scratch.particle_energy[i] = stages.particle_contact_energy(model, state, world, scratch, i, pairs)
             ti.loop_config(serialize=True)

@@ -58,6 +58,16 @@ def place_particles(model: ti.template(), state: ti.template()):
 
 
 @ti.func
+def place_particles_in_grid(model: ti.template(), state: ti.template(), scratch: ti.template()):
+    """Stages 1 and 2 (bodies in contact): place every particle and count it in its cell, in one
+    pass; then the grid's build ends with grid.finish_serial or grid.finish_parallel."""
+    grid.clear_counts(scratch)
+    for i in range(state.particle_x.shape[0]):
+        place_particle(model, state, i)
+        grid.count_particle(scratch, state, i)
+
+
+@ti.func
 def planes_in_reach(model: ti.template(), state: ti.template(), world: ti.template(), k):
     """Bit j set where a particle's sphere of block k may touch plane j (a NaN sets every bit).
 
