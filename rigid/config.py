@@ -65,7 +65,7 @@ class SimConfig:
 
     @property
     def many_bodies(self) -> bool:
-        """Whether the scene has several bodies (the many-body engine) or one (the classic path).
+        """Whether the scene has several bodies (which collide with one another) or one.
         A mesh file holding several meshes (``mesh_count``) is several bodies."""
         entries = self.bodies or ({},)
         return len(entries) > 1 or any(b.get("count", self.count) > 1 for b in entries) \

@@ -8,14 +8,19 @@ build their own (``sim_cache``).
 
 The suite runs on pytest-xdist workers (``-n auto`` in pyproject.toml, one per
 CPU; ``-n 0`` runs it in one process). ``pytest_collection_modifyitems`` keeps
-each test file on one worker and groups the files that share simulators or a
-float64 worker process (GROUPS), heaviest first (ORDER). Most of the suite's
-CPU time is Taichi compiling kernels (in these processes and in the CLI, grading
-and report processes the tests start), so two workers on two cores take about
-half the time of one process.
+each test file on one worker and groups the files that share a float64 worker
+process (GROUPS), heaviest first (ORDER). Most of the suite's CPU time is Taichi
+compiling kernels in the grading, CLI and report processes the tests start (a
+student's file compiles its own), so two workers on two cores take about half the
+time of one process.
+
+Taichi writes its disk cache of kernels when a process exits, under a lock; two
+processes exiting at once (two workers, or a worker and a CLI run) may print
+"Lock ... ticache.lock failed": the second one skips writing and the kernels it
+compiled are compiled again by the next process that needs them. Harmless: the
+cache holds machine code keyed by the kernels' source, never results.
 """
 import contextlib
-import dataclasses
 import os
 import signal
 import subprocess
@@ -28,9 +33,8 @@ ROOT = Path(__file__).resolve().parent.parent
 ASSETS = ROOT / "assets"
 SOLUTION = ROOT / "rigid_body_dynamic.py"
 
-# Files that must run in one worker process: they share a float64 worker (physics_results.py)
-# or compiled simulators (the scenes of assets/scenes through the command line and directly;
-# the handout's sphere with other particle masses).
+# Files that must run in one worker process: they share a float64 worker (physics_results.py);
+# the in-process scene runs go together, which keeps the kernels of many bodies in one worker.
 GROUPS = {
     **dict.fromkeys(("test_physics_accuracy", "test_physics_energy", "test_physics_inertia",
                      "test_physics_momentum", "test_physics_rotation"), "physics_fp64"),
@@ -39,8 +43,8 @@ GROUPS = {
 }
 # Groups by measured CPU time, longest first: xdist hands them out in collection order, each
 # worker holding about two tests ahead, so the long ones start first and both workers end on
-# short ones. The in-process "scenes" group runs beside the grading batch (whose stage time
-# limits want no second multi-process test beside them); the rest follow in file order.
+# short ones. The in-process "scenes" group runs beside the grading batch; the rest follow in
+# file order.
 ORDER = ("test_grading_batch", "scenes", "test_report", "physics_fp64", "test_bench_many",
          "test_view_memory", "test_multi_mesh_bodies", "test_export", "test_view_raster",
          "test_render", "test_parallel_path", "test_window", "sphere", "test_grading_handout",

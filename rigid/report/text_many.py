@@ -93,7 +93,7 @@ def _running_min(values):
 PIPELINE = (
     "A scene's `[[body]]` tables put several bodies in the box, and bodies collide through their "
     "particles (Harada, GPU Gems 3, ch. 29). One substep is a pipeline of stages "
-    "(`rigid/engine/world.py`): (1) every particle's position and velocity from its body's x, R, v "
+    "(`rigid/engine/stages.py`, the same for one body, without the grid and pairs): (1) every particle's position and velocity from its body's x, R, v "
     "and ω; (2) a uniform grid of cells one particle diameter wide, built by counting sort (count the "
     "particles per cell, prefix sum, scatter; no cap per cell); (3) per particle, gravity (TODO 2), "
     "the walls on its sphere, and for every overlapping particle of another body in the 27 cells "
@@ -106,10 +106,11 @@ PIPELINE = (
     "figures below regenerate byte for byte.")
 
 FRICTION = (
-    "**Friction between bodies.** The pair force's friction is Coulomb's μ f_n capped by viscous "
-    "damping, min(μ f_n, k_d |v_t|) against the tangential velocity v_t (`rigid/engine/pair_contact.py`). "
-    "The single body's walls are viscous below a slip speed instead (μ f_n / v_slip); between bodies "
-    "that failed: in a stack the lower bodies carry many times their own weight, the load-scaled "
+    "**Friction.** Every contact's friction, with the walls and between bodies, is Coulomb's μ f_n "
+    "capped by viscous damping, min(μ f_n, k_d |v_t|) against the tangential velocity v_t "
+    "(`rigid/engine/contact.py`: one law for walls and pairs). A viscous coefficient that grows with "
+    "the load, μ f_n / v_slip (the single body's walls used it once), failed between bodies: in a "
+    "stack the lower bodies carry many times their own weight, the load-scaled "
     "coefficient μ f_n / v_slip passed explicit integration's stability limit (Δt c / m < 2), and the "
     "stack tipped over. Capped at k_d, the tangential damping is no stiffer than the normal damping, "
     "which the step already resolves.")
