@@ -8,10 +8,11 @@ differ in who runs them:
   the worker threads costs 15-70 µs per loop on this project's 2-vCPU machine, and a launch
   from Python ~0.1-0.5 ms, so a substep must carry far more work than that to gain.
 
-Work per particle and substep, measured on the 2-vCPU machine (``scripts/bench.py``,
-``scripts/bench_many.py``): ~1 ns for a body against the walls, 100-250 ns for particles in
-contact with other bodies (the pair search). The thresholds are the measured break-evens
-for two threads, assumed to fall as 1/threads with more. A GPU always runs parallel (one
+Work per particle and substep on the 2-vCPU machine: ~1-3 ns for a body against the walls,
+100-250 ns for particles in contact with other bodies (the pair search). The thresholds are
+the break-evens for two threads measured with the engine's earlier paths (``scripts/bench.py``'s
+crossover, ``scripts/bench_many.py``), kept for this pipeline (not re-measured: its per-launch
+and per-task costs are about the same), and assumed to fall as 1/threads with more. A GPU always runs parallel (one
 GPU thread would run the whole scene).
 """
 from __future__ import annotations

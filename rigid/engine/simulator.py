@@ -79,7 +79,7 @@ class Simulator:
                       sorted_body=zeros(N if pairs else 1, "i"), chunk_total=zeros(shape.num_chunks + 1, "i"),
                       grid_dims=device_array(np.array([shape.dim, shape.num_cells, shape.num_chunks]), dtype=ti.i32),
                       grid_inv_cell=device_array(np.array([1.0 / cell])),
-                      rk_base=zeros(B, "v13"), rk_step=zeros(B, "v13"), rk_sum=zeros(B, "v13"))
+                      rk_base=zeros(B, "v13"), rk_sum=zeros(B, "v13"))
         self.grid_shape, self.cell_size = shape, cell
         self._scratch_arrays = arrays
         self.scratch = ScratchArgs()(**{name: arrays[name] for name in ScratchArgs.NAMES})
