@@ -97,6 +97,7 @@ if [ -f "$stamp" ] && [ "$(cat "$stamp")" = "$want" ] && installed; then
 else
   rm -f "$stamp"
   # The usd extra (usd-core) lets the tests read USD exports back; where it has no wheel, go on without it.
+  echo "setup: installing this package and its dependencies with pip (a minute or two on a new machine)"
   if "$VPY" -m pip install -q -e '.[dev,usd]'; then
     :
   elif "$VPY" -m pip install -q -e '.[dev]'; then

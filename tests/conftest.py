@@ -130,6 +130,24 @@ def killed_at_exit(proc):
             proc.wait()
 
 
+def venv_with_our_dependencies(folder: Path, extra_paths=()) -> Path:
+    """A new venv (no pip) whose Python finds this environment's packages (numpy, taichi, ...)
+    through a path file, but not this checkout's ``rigid``: the editable install's finder lives in
+    a .pth file of this environment's site-packages, and Python runs .pth files only in its own
+    site folders. ``extra_paths`` go first (e.g. an unpacked wheel). Returns its python."""
+    import site
+    import sysconfig
+
+    subprocess.run([sys.executable, "-m", "venv", "--without-pip", str(folder)], check=True, timeout=120)
+    python = folder / "bin" / "python"
+    purelib = subprocess.run([str(python), "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])"],
+                             capture_output=True, text=True, check=True, timeout=60).stdout.strip()
+    ours = [p for p in dict.fromkeys([*site.getsitepackages(), sysconfig.get_paths()["purelib"]])
+            if Path(p).is_dir()]
+    (Path(purelib) / "_our_dependencies.pth").write_text("\n".join([*map(str, extra_paths), *ours]) + "\n")
+    return python
+
+
 def run_cli(*args, timeout=120, cwd=ROOT):
     """Run ``python rigid_body_dynamic.py ARGS`` and return the CompletedProcess."""
     return subprocess.run([sys.executable, str(SOLUTION), *map(str, args)], cwd=cwd,

