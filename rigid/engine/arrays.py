@@ -15,8 +15,8 @@ Each member is an ndarray of an element type and a number of dimensions; the ele
 float is the run's precision, so the types are made after ``ti.init`` (and cached). Model,
 State and World are documented in model.py and state.py, the grid's arrays in grid.py; the
 rest of ScratchArgs, per particle slot [N] (world frame): ``particle_f`` the pair force,
-``particle_couple`` the pairs' couple about the particle, ``particle_energy`` its springs'
-energy (a frame's end); per block [K]: ``partial_F``, ``partial_tau`` its share of F and τ
+``particle_couple`` the pairs' couple about the particle; per block [K]: ``block_energy`` its
+springs' energy (at a frame's end), ``partial_F``, ``partial_tau`` its share of F and τ
 (about the body's centre of mass); per body [B]: ``rk_base``, ``rk_sum`` RK4's
 Y₀ and weighted sum of its stages (x, q, P, L packed in 13 numbers). RowArgs: rows.py.
 """
@@ -65,7 +65,7 @@ StateArgs = _pack_type(dict(
 WorldArgs = _pack_type(dict(values=("f", 1), planes=("v4", 1)))
 
 ScratchArgs = _pack_type(dict(
-    particle_f=("v3", 1), particle_couple=("v3", 1), particle_energy=("f", 1), partial_F=("v3", 1), partial_tau=("v3", 1),
+    particle_f=("v3", 1), particle_couple=("v3", 1), block_energy=("f", 1), partial_F=("v3", 1), partial_tau=("v3", 1),
     cell_count=("i", 1), cell_start=("i", 1), cell_cursor=("i", 1), particle_cell=("i", 1),
     sorted_particle=("i", 1), sorted_x=("v3", 1), sorted_body=("i", 1), chunk_total=("i", 1), grid_dims=("i", 1), grid_inv_cell=("f", 1),
     rk_base=("v13", 1), rk_sum=("v13", 1)))

@@ -86,8 +86,8 @@ class EngineKernels:
                 else:
                     stages.place_particles(model, state)
                 energy = 0.0
-                for i in range(state.particle_x.shape[0]):
-                    energy += stages.particle_contact_energy(model, state, world, scratch, i, pairs)
+                for k in range(model.block_start.shape[0]):
+                    energy += stages.block_contact_energy(model, state, world, scratch, k, pairs)
                 write_row(state, rows, frame, energy)
 
         @ti.func
@@ -128,13 +128,13 @@ class EngineKernels:
                 grid.finish_parallel(scratch, model, state)
             else:
                 stages.place_particles(model, state)
-            for i in range(state.particle_x.shape[0]):  # the terms in parallel, summed in order below
-                scratch.particle_energy[i] = stages.particle_contact_energy(model, state, world, scratch, i, pairs)
+            for k in range(model.block_start.shape[0]):  # the blocks in parallel, summed in order below
+                scratch.block_energy[k] = stages.block_contact_energy(model, state, world, scratch, k, pairs)
             ti.loop_config(serialize=True)
             for _ in range(1):
                 energy = 0.0
-                for i in range(state.particle_x.shape[0]):
-                    energy += scratch.particle_energy[i]
+                for k in range(model.block_start.shape[0]):
+                    energy += scratch.block_energy[k]
                 write_row(state, rows, slot, energy)
 
         @ti.kernel

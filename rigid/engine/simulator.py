@@ -71,7 +71,7 @@ class Simulator:
         """The arrays a substep rewrites (forces, partial sums, the grid, RK4)."""
         shape = GridShape.for_particles(N, pairs)
         cell = 2.0 * max(float(self.model.radius_np.max()), 1e-6)
-        arrays = dict(particle_f=zeros(N, "v3"), particle_couple=zeros(N, "v3"), particle_energy=zeros(N),
+        arrays = dict(particle_f=zeros(N, "v3"), particle_couple=zeros(N, "v3"), block_energy=zeros(self.model.num_blocks),
                       partial_F=zeros(self.model.num_blocks, "v3"), partial_tau=zeros(self.model.num_blocks, "v3"),
                       cell_count=zeros(shape.num_cells, "i"), cell_start=zeros(shape.num_cells + 1, "i"),
                       cell_cursor=zeros(shape.num_cells, "i"), particle_cell=zeros(N, "i"),

@@ -132,9 +132,10 @@ def pair_stage(model: ti.template(), state: ti.template(), world: ti.template(),
 
 @ti.func
 def _block_loop(u: ti.template(), model: ti.template(), world: ti.template(), scratch: ti.template(),
-                start, end, b, x, R, v, omega, slots, pairs: ti.template(), count: ti.template()):
+                start, end, b, x, R, v, omega, plane0, plane1, plane2, pairs: ti.template(),
+                count: ti.template()):
     """Σ TODO 3 and TODO 4 over slots start..end−1 of body b, each particle's force being
-    gravity (TODO 2) + the planes (``count`` static slots of ``slots``, or every plane of the
+    gravity (TODO 2) + the planes (the first ``count`` of plane0..plane2, or every plane of the
     world if count is -1) + its pair force and couple (scratch, if ``pairs``)."""
     F = ti.Vector.zero(float, 3)
     tau = ti.Vector.zero(float, 3)
@@ -149,10 +150,13 @@ def _block_loop(u: ti.template(), model: ti.template(), world: ti.template(), sc
         f = u.gravity_force(m, g)
         if ti.static(count > 0):
             pv = v + omega.cross(r)
-            for j in ti.static(range(count)):
-                plane = ti.Vector([slots[j, 0], slots[j, 1], slots[j, 2], slots[j, 3]])
-                fc, _e = plane_force(p, pv, radius, plane, stiffness, kd, mu)
-                f += fc
+            fc, _e = plane_force(p, pv, radius, plane0, stiffness, kd, mu)
+            f += fc
+            if ti.static(count > 1):
+                fc1, _e1 = plane_force(p, pv, radius, plane1, stiffness, kd, mu)
+                fc2, _e2 = plane_force(p, pv, radius, plane2, stiffness, kd, mu)
+                f += fc1
+                f += fc2
         elif ti.static(count < 0):
             pv = v + omega.cross(r)
             for j in range(num_planes(world)):
@@ -179,22 +183,28 @@ def _block_share(u: ti.template(), model: ti.template(), state: ti.template(), w
     tau = ti.Vector.zero(float, 3)
     # The planes in reach, in index order, in the slots; the other slots hold a plane no particle
     # is behind (its force is exactly zero, so f is the same as with the near planes alone).
-    slots = ti.Matrix([[0.0, 1.0, 0.0, -FAR]] * NEAR_SLOTS)
+    # Three plain vectors, not a matrix indexed at run time (which LLVM keeps in memory).
+    plane0 = ti.Vector([0.0, 1.0, 0.0, -FAR])
+    plane1 = ti.Vector([0.0, 1.0, 0.0, -FAR])
+    plane2 = ti.Vector([0.0, 1.0, 0.0, -FAR])
     used = 0
     for j in range(num_planes(world)):
         if near & (1 << j):
-            if used < NEAR_SLOTS:
-                for c in ti.static(range(4)):
-                    slots[used, c] = world.planes[j][c]
+            if used == 0:
+                plane0 = world.planes[j]
+            elif used == 1:
+                plane1 = world.planes[j]
+            elif used == 2:
+                plane2 = world.planes[j]
             used += 1
     if used == 0:
-        F, tau = _block_loop(u, model, world, scratch, start, end, b, x, R, v, omega, slots, pairs, 0)
+        F, tau = _block_loop(u, model, world, scratch, start, end, b, x, R, v, omega, plane0, plane1, plane2, pairs, 0)
     elif used == 1:  # e.g. resting on the floor
-        F, tau = _block_loop(u, model, world, scratch, start, end, b, x, R, v, omega, slots, pairs, 1)
+        F, tau = _block_loop(u, model, world, scratch, start, end, b, x, R, v, omega, plane0, plane1, plane2, pairs, 1)
     elif used <= NEAR_SLOTS:
-        F, tau = _block_loop(u, model, world, scratch, start, end, b, x, R, v, omega, slots, pairs, NEAR_SLOTS)
+        F, tau = _block_loop(u, model, world, scratch, start, end, b, x, R, v, omega, plane0, plane1, plane2, pairs, NEAR_SLOTS)
     else:
-        F, tau = _block_loop(u, model, world, scratch, start, end, b, x, R, v, omega, slots, pairs, -1)
+        F, tau = _block_loop(u, model, world, scratch, start, end, b, x, R, v, omega, plane0, plane1, plane2, pairs, -1)
     scratch.partial_F[k] = F
     scratch.partial_tau[k] = tau
 
@@ -220,17 +230,26 @@ def body_wrench(model: ti.template(), scratch: ti.template(), b):
 
 
 @ti.func
-def particle_contact_energy(model: ti.template(), state: ti.template(), world: ti.template(),
-                            scratch: ti.template(), i, pairs: ti.template()):
-    """The springs' energy ½ k δ² at slot i: every static plane, and half of each pair's."""
-    b = model.particle_body[i]
+def block_contact_energy(model: ti.template(), state: ti.template(), world: ti.template(),
+                         scratch: ti.template(), k, pairs: ti.template()):
+    """The springs' energy ½ k δ² of block k's particles (slot order): the static planes in reach
+    (the others store none), and half of each pair's. Read at a frame's end, from the placed
+    particles."""
+    b = model.block_body[k]
+    start = model.block_start[k]
+    end = start + model.block_count[k]
     stiffness, kd, mu = contact_constants(world)
+    radius = model.particle_radius[b]
+    near = planes_in_reach(model, state, world, k)
     energy = 0.0
-    for j in range(num_planes(world)):
-        _f, e = plane_force(state.particle_x[i], state.particle_v[i], model.particle_radius[b], world.planes[j],
-                            stiffness, kd, mu)
-        energy += e
-    if ti.static(pairs):
-        _f, _c, e = pair_forces(model, state, world, scratch, i)
-        energy += e
+    for i in range(start, end):
+        if near:
+            for j in range(num_planes(world)):
+                if near & (1 << j):
+                    _f, e = plane_force(state.particle_x[i], state.particle_v[i], radius, world.planes[j],
+                                        stiffness, kd, mu)
+                    energy += e
+        if ti.static(pairs):
+            _f, _c, e = pair_forces(model, state, world, scratch, i)
+            energy += e
     return energy
