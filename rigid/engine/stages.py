@@ -85,9 +85,10 @@ def planes_in_reach(model: ti.template(), state: ti.template(), world: ti.templa
     for j in range(num_planes(world)):
         plane = world.planes[j]
         n = ti.Vector([plane[0], plane[1], plane[2]])
-        lever = matvec(R.transpose(), n).norm() * rho
-        clear = n.dot(c) - plane[3] - lever - radius
-        if not clear > CLEAR_MARGIN * (size + ti.abs(plane[3])):  # written so that a NaN is near
+        # Clear when gap > |Rᵀn| ρ, compared squared (no square root per block and plane).
+        gap = n.dot(c) - plane[3] - radius - CLEAR_MARGIN * (size + ti.abs(plane[3]))
+        arm = matvec(R.transpose(), n)
+        if not (gap > 0 and gap * gap > arm.dot(arm) * rho * rho):  # written so that a NaN is near
             near |= 1 << j
     return near
 
