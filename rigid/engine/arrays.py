@@ -33,6 +33,11 @@ def float_dtype():
     return ti.lang.impl.current_cfg().default_fp
 
 
+def host_float():
+    """The numpy float of the run's precision (np.float32 or np.float64)."""
+    return np.float64 if float_dtype() == ti.f64 else np.float32
+
+
 def _element(kind: str):
     f = float_dtype()
     return {"f": f, "i": ti.i32, "v3": ti.types.vector(3, f), "v4": ti.types.vector(4, f),

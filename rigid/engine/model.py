@@ -37,7 +37,7 @@ from dataclasses import dataclass
 import numpy as np
 import taichi as ti
 
-from .arrays import ModelArgs, SurfaceArgs, device_array, float_dtype
+from .arrays import ModelArgs, SurfaceArgs, device_array, float_dtype, host_float
 from .blocks import block_layout, block_size_for
 
 
@@ -97,7 +97,7 @@ class Model:
         self.block_centre = device_array(layout["block_centre"], 3)
         # Rounded up, so that the float copy never under-covers its block.
         reach = layout["block_reach"].astype(np.float64)
-        self.block_reach = device_array(np.nextafter(reach.astype(_host_float()), np.inf))
+        self.block_reach = device_array(np.nextafter(reach.astype(host_float()), np.inf))
 
         self._surfaces(bodies, coms)
         self.args = ModelArgs()(**{name: getattr(self, name) for name in ModelArgs.NAMES})
@@ -143,8 +143,4 @@ class Model:
             print("warning: TODO 1 gives a singular inertia tensor; the body will not rotate "
                   "until TODO 1 is solved", file=sys.stderr)
         self.inertia_body_inv_np = inverse
-        self.inertia_body_inv.from_numpy(inverse.astype(_host_float()))
-
-
-def _host_float():
-    return np.float64 if float_dtype() == ti.f64 else np.float32
+        self.inertia_body_inv.from_numpy(inverse.astype(host_float()))

@@ -11,7 +11,7 @@ are computed on the host (rigid.engine.simulator).
 import numpy as np
 import taichi as ti
 
-from .arrays import RowArgs, zeros
+from .arrays import RowArgs, host_float, zeros
 
 LAYOUT = (("x", 3), ("q", 4), ("v", 3), ("omega", 3), ("P", 3), ("L", 3))
 ROW_WIDTH = sum(width for _name, width in LAYOUT)  # 19
@@ -36,7 +36,7 @@ class FrameRows:
     def read(self, frames: int, kernels) -> tuple[np.ndarray, np.ndarray]:
         """Rows 0..frames-1 as float64: (frames, B, ROW_WIDTH) and the contact energy (frames,).
         Only those rows are copied (``kernels.copy_rows``; ``to_numpy`` would copy the capacity)."""
-        host = np.float64 if self.body.dtype == ti.f64 else np.float32
+        host = host_float()
         body = np.empty((frames, self.num_bodies, ROW_WIDTH), host)
         energy = np.empty(frames, host)
         kernels.copy_rows(self.args, body, energy)

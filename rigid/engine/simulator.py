@@ -17,7 +17,7 @@ import taichi as ti
 
 from ..bodies.mesh import BodyGeometry
 from ..bodies.placement import BodySpec, check_inside_box, scene_bodies
-from .arrays import ScratchArgs, device_array, zeros
+from .arrays import ScratchArgs, device_array, host_float, zeros
 from .grid import GridShape
 from .kernels import engine_kernels
 from .launch import PreparedLaunch
@@ -63,8 +63,7 @@ class Simulator:
         self._scratch(B, N, pairs)
         self.schedule = choose_schedule(N, pairs, schedule)
         self._launches = None
-        self._surface_out = np.empty((max(self.model.num_surface, 1), 3),
-                                     np.float64 if self.rows.body.dtype.to_string() == "f64" else np.float32)
+        self._surface_out = np.empty((max(self.model.num_surface, 1), 3), host_float())
         self.reset()
 
     def _scratch(self, B: int, N: int, pairs: bool):

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .arrays import StateArgs, WorldArgs, float_dtype, zeros
+from .arrays import StateArgs, WorldArgs, host_float, zeros
 
 # Slots of WorldArgs.values.
 DT, STIFFNESS, DAMPING, FRICTION, GX, GY, GZ, NUM_PLANES = range(8)
@@ -76,7 +76,7 @@ class Params:
         return np.array([[0, 1, 0, f], [1, 0, 0, -w], [-1, 0, 0, -w], [0, 0, 1, -w], [0, 0, -1, -w]], np.float64)
 
     def upload(self) -> None:
-        host = np.float64 if float_dtype().to_string() == "f64" else np.float32
+        host = host_float()
         planes = self.plane_list()
         values = np.zeros(NUM_VALUES)
         values[[DT, STIFFNESS, DAMPING, FRICTION]] = (self.dt, self.collision_stiffness,
