@@ -44,32 +44,49 @@ class EngineKernels:
         update = schemes.symplectic_update if scheme == "symplectic" else schemes.euler_update
 
         @ti.func
-        def forces_serial(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template()):
+        def place_all(model: ti.template(), state: ti.template(), scratch: ti.template(), parallel: ti.template()):
+            """Stages 1-2: every particle placed, and the grid built when bodies collide."""
             if ti.static(pairs):
                 stages.place_particles_in_grid(model, state, scratch)
-                grid.finish_serial(scratch, model, state)
-                for i in range(state.particle_x.shape[0]):
+                if ti.static(parallel):
+                    grid.finish_parallel(scratch, model, state)
+                else:
+                    grid.finish_serial(scratch, model, state)
+            else:
+                stages.place_particles(model, state)
+
+        @ti.func
+        def forces(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(),
+                   parallel: ti.template()):
+            """Stages 1-3: the pair forces (when bodies collide), then each block's forces and shares."""
+            if ti.static(pairs):
+                place_all(model, state, scratch, parallel)
+                for c in range(state.particle_x.shape[0]):
+                    # In parallel, in cell order (neighbours close in memory); serially in slot order.
+                    i = scratch.sorted_particle[c] if ti.static(parallel) else c
                     stages.pair_stage(model, state, world, scratch, i)
             for k in range(model.block_start.shape[0]):
                 stages.block_forces(u, model, state, world, scratch, k, pairs)
 
         @ti.func
-        def substep_serial(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template()):
+        def substep_stages(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(),
+                           parallel: ti.template()):
+            """One substep of every body. At a kernel's top level each loop is one parallel task (the
+            tasks run in order); inside a one-thread loop, all of it is serial."""
             dt = world.values[DT]
-            B = state.x.shape[0]
             if ti.static(rk4):
-                for b in range(B):
+                for b in range(state.x.shape[0]):
                     schemes.rk4_begin(state, scratch, b)
                 for stage in ti.static(range(4)):
-                    forces_serial(model, state, world, scratch)
-                    for b in range(B):
+                    forces(model, state, world, scratch, parallel)
+                    for b in range(state.x.shape[0]):
                         F, tau = stages.body_wrench(model, scratch, b)
                         schemes.rk4_stage(u, model, state, scratch, b, dt, F, tau, stage)
-                for b in range(B):
+                for b in range(state.x.shape[0]):
                     schemes.rk4_finish(u, model, state, scratch, b, dt)
             else:
-                forces_serial(model, state, world, scratch)
-                for b in range(B):
+                forces(model, state, world, scratch, parallel)
+                for b in range(state.x.shape[0]):
                     F, tau = stages.body_wrench(model, scratch, b)
                     update(u, model, state, b, dt, F, tau)
 
@@ -79,55 +96,20 @@ class EngineKernels:
             ti.loop_config(serialize=True)
             for frame in range(frames):
                 for _step in range(substeps):
-                    substep_serial(model, state, world, scratch)
-                if ti.static(pairs):
-                    stages.place_particles_in_grid(model, state, scratch)
-                    grid.finish_serial(scratch, model, state)
-                else:
-                    stages.place_particles(model, state)
+                    substep_stages(model, state, world, scratch, False)
+                place_all(model, state, scratch, False)
                 energy = 0.0
                 for k in range(model.block_start.shape[0]):
                     energy += stages.block_contact_energy(model, state, world, scratch, k, pairs)
                 write_row(state, rows, frame, energy)
 
-        @ti.func
-        def forces_parallel(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template()):
-            # Top-level loops (parallel).
-            if ti.static(pairs):
-                stages.place_particles_in_grid(model, state, scratch)
-                grid.finish_parallel(scratch, model, state)
-                for c in range(state.particle_x.shape[0]):  # in cell order: neighbours close in memory
-                    stages.pair_stage(model, state, world, scratch, scratch.sorted_particle[c])
-            for k in range(model.block_start.shape[0]):
-                stages.block_forces(u, model, state, world, scratch, k, pairs)
-
         @ti.kernel
         def substep(model: M, state: S, world: W, scratch: C):
-            # Each loop at this level is one parallel task; the tasks run in order.
-            dt = world.values[DT]
-            if ti.static(rk4):
-                for b in range(state.x.shape[0]):
-                    schemes.rk4_begin(state, scratch, b)
-                for stage in ti.static(range(4)):
-                    forces_parallel(model, state, world, scratch)
-                    for b in range(state.x.shape[0]):
-                        F, tau = stages.body_wrench(model, scratch, b)
-                        schemes.rk4_stage(u, model, state, scratch, b, dt, F, tau, stage)
-                for b in range(state.x.shape[0]):
-                    schemes.rk4_finish(u, model, state, scratch, b, dt)
-            else:
-                forces_parallel(model, state, world, scratch)
-                for b in range(state.x.shape[0]):
-                    F, tau = stages.body_wrench(model, scratch, b)
-                    update(u, model, state, b, dt, F, tau)
+            substep_stages(model, state, world, scratch, True)
 
         @ti.kernel
         def finish_frame(model: M, state: S, world: W, scratch: C, rows: Rw, slot: ti.i32):
-            if ti.static(pairs):
-                stages.place_particles_in_grid(model, state, scratch)
-                grid.finish_parallel(scratch, model, state)
-            else:
-                stages.place_particles(model, state)
+            place_all(model, state, scratch, True)
             for k in range(model.block_start.shape[0]):  # the blocks in parallel, summed in order below
                 scratch.block_energy[k] = stages.block_contact_energy(model, state, world, scratch, k, pairs)
             ti.loop_config(serialize=True)
