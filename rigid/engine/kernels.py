@@ -14,13 +14,14 @@ Two schedules run the same stages (stages.py), chosen by schedule.py:
 
 import taichi as ti
 
-from . import grid, schemes, stages
+from . import frontend, grid, schemes, stages
 from .arrays import ModelArgs, RowArgs, ScratchArgs, StateArgs, SurfaceArgs, WorldArgs
 from .matvec import matvec
 from .state import DT
 from .rows import write_row
 
 _CACHE: dict = {}
+frontend.install()  # the frontend's debug strings formatted once per node (frontend.py)
 
 
 def engine_kernels(units, scheme: str, pairs: bool) -> "EngineKernels":

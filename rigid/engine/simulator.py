@@ -185,12 +185,7 @@ class Simulator:
 
     def _run(self, frames: int, substeps: int):
         """``frames`` frames of ``substeps`` substeps, rows 0 .. frames − 1 written."""
-        if self._launches is None:  # made on first use: a Simulator only read costs nothing here
-            k, m, s, w, c, r = self.kernels, self.model.args, self.state.args, self.params.args, self.scratch, self.rows.args
-            self._launches = dict(run_frames=PreparedLaunch(k.run_frames, m, s, w, c, r, 1, 1),
-                                  substep=PreparedLaunch(k.substep, m, s, w, c),
-                                  finish_frame=PreparedLaunch(k.finish_frame, m, s, w, c, r, 0))
-        launch = self._launches
+        launch = self._prepared_launches()
         if self.schedule == "serial":
             launch["run_frames"](frames=frames, substeps=substeps)
             return
@@ -198,6 +193,19 @@ class Simulator:
             for _ in range(substeps):
                 launch["substep"]()
             launch["finish_frame"](slot=frame)
+
+    def _prepared_launches(self) -> dict:
+        """The launches of this Simulator's schedule, made on first use (a Simulator only read
+        costs nothing here) and only for its schedule: a kernel is compiled when first launched,
+        so a serial run never compiles the parallel kernels (a lone body's first run ~40 % less)."""
+        if self._launches is None:
+            k, m, s, w, c, r = self.kernels, self.model.args, self.state.args, self.params.args, self.scratch, self.rows.args
+            if self.schedule == "serial":
+                self._launches = dict(run_frames=PreparedLaunch(k.run_frames, m, s, w, c, r, 1, 1))
+            else:
+                self._launches = dict(substep=PreparedLaunch(k.substep, m, s, w, c),
+                                      finish_frame=PreparedLaunch(k.finish_frame, m, s, w, c, r, 0))
+        return self._launches
 
     def apply_impulse(self, particle: int, impulse):
         """Hit particle ``particle`` (its index in the mesh files' order, body after body) with
@@ -217,8 +225,11 @@ class Simulator:
 
     def current_block(self) -> dict:
         """The current state as a block of one frame (see ``advance_frames``)."""
-        k = self.kernels
-        k.finish_frame(self.model.args, self.state.args, self.params.args, self.scratch, self.rows.args, 0)
+        launch = self._prepared_launches()
+        if self.schedule == "serial":  # a frame of no substeps: the particles placed, the row written
+            launch["run_frames"](frames=1, substeps=0)
+        else:
+            launch["finish_frame"](slot=0)
         return self._block([self.time])
 
     def particle_positions(self) -> np.ndarray:
