@@ -42,6 +42,9 @@ def init_taichi():
         ti.init(arch=ti.cpu, default_fp=ti.f32, debug=False, log_level=ti.ERROR, offline_cache=True,
                 random_seed=0, cpu_max_num_threads=1)
     headless.install(ti)
+    from ...engine import frontend
+
+    frontend.install()  # each AST node's debug string formatted once (the file's versions share code)
 
 
 def perturbed_label(params: dict) -> str:
