@@ -78,11 +78,18 @@ class EngineKernels:
             if ti.static(rk4):
                 for b in range(state.x.shape[0]):
                     schemes.rk4_begin(state, scratch, b)
-                for stage in ti.static(range(4)):
-                    forces(model, state, world, scratch, parallel)
-                    for b in range(state.x.shape[0]):
-                        F, tau = stages.body_wrench(model, scratch, b)
-                        schemes.rk4_stage(u, model, state, scratch, b, dt, F, tau, stage)
+                if ti.static(parallel):  # each stage's loops top-level (parallel) tasks: unrolled
+                    for stage in ti.static(range(4)):
+                        forces(model, state, world, scratch, parallel)
+                        for b in range(state.x.shape[0]):
+                            F, tau = stages.body_wrench(model, scratch, b)
+                            schemes.rk4_stage(u, model, state, scratch, b, dt, F, tau, stage)
+                else:  # one thread: a loop, so that the pipeline is compiled once, not four times
+                    for stage in range(4):
+                        forces(model, state, world, scratch, parallel)
+                        for b in range(state.x.shape[0]):
+                            F, tau = stages.body_wrench(model, scratch, b)
+                            schemes.rk4_stage(u, model, state, scratch, b, dt, F, tau, stage)
                 for b in range(state.x.shape[0]):
                     schemes.rk4_finish(u, model, state, scratch, b, dt)
             else:

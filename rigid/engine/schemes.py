@@ -79,14 +79,17 @@ def rk4_begin(state: ti.template(), scratch: ti.template(), b):
 
 @ti.func
 def rk4_stage(u: ti.template(), model: ti.template(), state: ti.template(), scratch: ti.template(), b, dt,
-              F, tau, stage: ti.template()):
-    """k_s = Ẏ at the current (stage) state with wrench (F, τ); accumulate it; move to the next stage."""
+              F, tau, stage):
+    """k_s = Ẏ at the current (stage) state with wrench (F, τ); accumulate it; move to the next
+    stage. ``stage`` 0..3, a constant or a run-time loop index (the weights and nodes are exact)."""
     w = state.omega[b]
     q_dot = 0.5 * quaternion_multiplication(ti.Vector([0.0, w[0], w[1], w[2]]), state.q[b])
     k = _pack13(state.v[b], q_dot, F, tau)
-    scratch.rk_sum[b] += RK4_WEIGHTS[stage] * k
-    if ti.static(stage < 3):
-        _store13(u, model, state, b, scratch.rk_base[b] + (RK4_NODES[stage + 1] * dt) * k)
+    weight = RK4_WEIGHTS[0] if stage == 0 or stage == 3 else RK4_WEIGHTS[1]
+    scratch.rk_sum[b] += weight * k
+    if stage < 3:
+        node = RK4_NODES[1] if stage < 2 else RK4_NODES[3]  # c_{s+1}
+        _store13(u, model, state, b, scratch.rk_base[b] + (node * dt) * k)
 
 
 @ti.func
