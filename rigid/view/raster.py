@@ -29,7 +29,7 @@ from .raster_data import Triangles, VertexNormals
 NEAR = 0.05  # m: primitives with a vertex nearer the eye than this are skipped
 LINE_BIAS = 1e-3  # lines are drawn this fraction of their depth nearer, to win over the face under them
 EMPTY = 1 << 62  # a pixel's key before any triangle covers it
-CULLED, FLAT, LIT, LIT_TWO_SIDED = 0, 1, 2, 3  # triangle kinds
+CULLED, FLAT, LIT, LIT_TWO_SIDED, RECEIVER = 0, 1, 2, 3, 4  # triangle kinds (RECEIVER: two-sided, shadowed)
 WIRE_COLOR = (0.15, 0.15, 0.15)
 vec3 = ti.types.vector(3, ti.f32)
 
@@ -64,7 +64,7 @@ class Rasterizer:
         self.count = 0
 
     def mesh(self, vertices, indices=None, normals=None, color=(0.5, 0.5, 0.5), per_vertex_color=None,
-             two_sided=False, show_wireframe=False) -> None:
+             two_sided=False, show_wireframe=False, receives_shadow=False) -> None:
         """Triangles ``indices`` (3 per triangle; None: vertices 3t, 3t+1, 3t+2) of a vec3 field.
 
         The arguments mean what they mean for GGUI's ``scene.mesh``. Normals: the ``normals``
@@ -76,7 +76,7 @@ class Rasterizer:
             normals = self._normals.of(vertices, indices)
         base = self._reserve(n)
         self._emit_mesh(self.tris, base, n, vertices, _or0(indices), _or0(normals), _or0(per_vertex_color),
-                        vec3(*color), LIT_TWO_SIDED if two_sided else LIT)
+                        vec3(*color), RECEIVER if receives_shadow else LIT_TWO_SIDED if two_sided else LIT)
         if show_wireframe:
             base = self._reserve(6 * n)
             self._emit_edges(self.tris, base, n, vertices, _or0(indices), self._line_half_width(1.0), vec3(WIRE_COLOR))
@@ -93,10 +93,11 @@ class Rasterizer:
         base = self._reserve(8 * n)
         self._emit_particles(self.tris, base, n, centers, float(radius), vec3(*color), _or0(per_vertex_color))
 
-    def finish(self) -> None:
-        """Rasterise the queued triangles into ``image`` (and clear the depth keys for the next frame)."""
+    def finish(self, shadows=None) -> None:
+        """Rasterise the queued triangles into ``image`` (and clear the depth keys for the next frame);
+        ``shadows`` (shadow.ContactShadows) darkens the triangles drawn with ``receives_shadow``."""
         self._raster(self.tris, self.count)
-        self._resolve(self.tris)
+        self._resolve(self.tris, _or0(shadows))
 
     def read_rgba(self) -> np.ndarray:
         """The picture as (H, W, 4) uint8 RGBA, top row first, contiguous (a new array)."""
@@ -239,7 +240,7 @@ class Rasterizer:
                                 ti.atomic_min(self.key[x, y], (bits << 32) | ti.cast(t, ti.i64))
 
     @ti.kernel
-    def _resolve(self, tris: ti.template()):
+    def _resolve(self, tris: ti.template(), shadows: ti.template()):
         eye, light, light_color, ambient, background = self.cam[0], self.cam[4], self.cam[5], self.cam[6], self.cam[7]
         for x, y in self.key:
             key = self.key[x, y]
@@ -255,10 +256,13 @@ class Rasterizer:
                     normal = (w[0] * tris.vn[3 * t] + w[1] * tris.vn[3 * t + 1] + w[2] * tris.vn[3 * t + 2])
                     p = w[0] * tris.vp[3 * t] + w[1] * tris.vp[3 * t + 1] + w[2] * tris.vp[3 * t + 2]
                     normal = normal.normalized(1e-20)
-                    if tris.kind[t] == LIT_TWO_SIDED and normal.dot(eye - p) < 0:
+                    if tris.kind[t] >= LIT_TWO_SIDED and normal.dot(eye - p) < 0:
                         normal = -normal
                     diffuse = ti.max(0.0, normal.dot((light - p).normalized(1e-20)))
                     rgb = rgb * (ambient + light_color * diffuse)
+                    if ti.static(shadows != 0):
+                        if tris.kind[t] == RECEIVER:
+                            rgb = rgb * shadows.at(p)
             byte = ti.cast(ti.min(ti.max(rgb, 0.0), 1.0) * 255.0 + 0.5, ti.u32)
             self.image[x, y] = ti.Vector([byte[0], byte[1], byte[2], 255], ti.u8)
             self.rgba[self.height - 1 - y, x] = byte[0] | (byte[1] << 8) | (byte[2] << 16) | ti.u32(0xFF000000)

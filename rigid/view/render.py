@@ -16,9 +16,10 @@ import numpy as np
 import taichi as ti
 
 from ..errors import UserError
-from .orbit import OrbitCamera
+from .camera import SceneCamera
 from .panel import PANEL_TITLE
 from .raster import Rasterizer
+from .shadow import ContactShadows
 from .vulkan import INSTALL_HINT, require_vulkan
 
 BACKGROUND = (1.0, 1.0, 1.0)
@@ -35,7 +36,8 @@ class SceneRenderer:
     """Draws one simulator's scene into a picture; shows it in a GGUI window unless ``offscreen``."""
 
     def __init__(self, sim, resolution=(1280, 720), offscreen=False, title="Rigid body",
-                 fps_limit=1000):
+                 fps_limit=1000, camera=None):
+        """``camera``: a camera.CameraSpec (a scene's [camera] table, --camera); None frames the scene."""
         size = tuple(int(r) for r in resolution)
         self.window = self.canvas = None
         if not offscreen:
@@ -49,7 +51,8 @@ class SceneRenderer:
             self.canvas = self.window.get_canvas()
         self.sim = sim
         self.raster = Rasterizer(*size)
-        self.orbit = OrbitCamera()
+        self.camera = SceneCamera(sim, camera, aspect=size[0] / size[1])
+        self.orbit = self.camera.orbit  # the mouse orbits it; follow moves its target
         self.wireframe = False
         self._build_box(float(sim.params.floor), float(sim.params.wall))
         m = sim.model
@@ -63,6 +66,11 @@ class SceneRenderer:
             palette = body_palette(m.num_bodies)
             self.vertex_colors = _vec_field(palette[m.surface_body_np]) if m.num_surface else None
             self.particle_colors = _vec_field(palette[sim.particle_bodies()])
+        # Under each body a soft shadow on the floor (shadow.py); none without walls (no floor drawn).
+        self.shadows = ContactShadows(m.num_bodies, float(sim.params.floor), float(sim.params.wall)) \
+            if sim.params.walls else None
+        self._shadow_counts = np.bincount(m.surface_body_np, minlength=m.num_bodies) if m.num_faces \
+            else np.asarray(m.body_count_np)
 
     def _build_box(self, floor: float, wall: float) -> None:
         """Floor tiles (two triangles each, own vertices so colours stay flat) and 12 box edges."""
@@ -95,23 +103,29 @@ class SceneRenderer:
     def draw(self) -> None:
         """Draw this frame's scene into the picture (and the window's canvas, if shown)."""
         sim, raster = self.sim, self.raster
+        self.camera.update()
         raster.begin(self.orbit.position(), self.orbit.target, fov_deg=self.orbit.fov, light=LIGHT,
                      ambient=AMBIENT, background=BACKGROUND)
         if sim.params.walls:
             raster.mesh(self.floor_vertices, normals=self.floor_normals, per_vertex_color=self.floor_colors,
-                        two_sided=True)
+                        two_sided=True, receives_shadow=self.shadows is not None)
             raster.lines(self.box_lines, width=2.0, color=BOX_COLOR)
         else:  # free flight: a grid on the floor plane to see motion against
             raster.lines(self.grid_lines, width=1.0, color=GRID_COLOR)
+        points = None
         if sim.model.num_faces:
-            self.surface.from_numpy(np.asarray(sim.surface_positions(), np.float32))
+            points = np.asarray(sim.surface_positions(), np.float32)
+            self.surface.from_numpy(points)
             raster.mesh(self.surface, self.indices, color=BODY_COLOR, two_sided=True,
                         show_wireframe=self.wireframe, per_vertex_color=self.vertex_colors)
         else:  # a point cloud: draw the particles
-            self.particles.from_numpy(sim.particle_positions().astype(np.float32))
+            points = sim.particle_positions().astype(np.float32)
+            self.particles.from_numpy(points)
             raster.particles(self.particles, radius=0.015, color=BODY_COLOR,
                              per_vertex_color=self.particle_colors)
-        raster.finish()
+        if self.shadows is not None and sim.params.walls:
+            self.shadows.update(points, self._shadow_counts)
+        raster.finish(self.shadows if sim.params.walls else None)
         if self.canvas is not None:
             self.canvas.set_image(raster.image)
 
