@@ -46,3 +46,37 @@ def _duration(seconds: float) -> str:
     if seconds < 7200:
         return f"{seconds / 60:.0f} min"
     return f"{seconds / 3600:.1f} h"
+
+
+class FrameBar:
+    """A tqdm progress bar over a run's frames, opened only once ``warm_up`` updates are done: the
+    first frames compile the kernels (seconds), and a bar started during them would show a rate,
+    and an estimate, many times too slow (a recording's first ETA said 16:34 while compiling).
+    ``enabled`` None: shown when stderr is a terminal (a log file gets TimeLeft's one line)."""
+
+    def __init__(self, frames: int | None, desc: str, enabled: bool | None = None, warm_up: int = 1, out=None):
+        self.out = out or sys.stderr
+        if enabled is None:
+            enabled = bool(getattr(self.out, "isatty", lambda: False)())
+        self.frames, self.desc, self.enabled, self.warm_up = frames, desc, enabled and bool(frames), warm_up
+        self.updates, self.bar = 0, None
+
+    def update(self, done: int) -> None:
+        """``done`` frames are finished."""
+        if not self.enabled:
+            return
+        self.updates += 1
+        if self.bar is None:
+            if self.updates <= self.warm_up:
+                return
+            from tqdm import tqdm
+
+            self.bar = tqdm(total=self.frames, initial=done, unit="frame", desc=self.desc, file=self.out,
+                            mininterval=0.5, dynamic_ncols=True, smoothing=0.1)
+            return
+        self.bar.update(done - self.bar.n)
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.close()
+            self.bar = None

@@ -11,8 +11,9 @@ Keys (the table's and the flag's, ``--camera fov=35 follow=centre``):
            | NAME | N    follows that body; "none" (default) stands still
 
 Without position and look_at, the default frames what is in the scene: one body keeps the
-box in view (it crosses the box); many bodies are framed by their bounding box, reaching down
-to the floor they will fall on, from a height (the pile is seen from above its top layer, the
+box in view (it crosses the box); many bodies are framed by their bounding box, widened by the
+largest body's size (where they topple to) and reaching down to the floor they will fall on
+(inside the box's walls), from a height (the pile is seen from above its top layer, the
 row of dominoes fills the picture). The orbit camera (orbit.py) starts from this view, and the
 mouse orbits and zooms it from there; a follow mode moves its target every frame.
 """
@@ -117,8 +118,15 @@ def framed_view(sim, aspect: float, fov: float = DEFAULT_FOV) -> dict:
         return dict(ONE_BODY)
     points = sim.particle_positions()
     lo, hi = points.min(axis=0), points.max(axis=0)
-    if sim.params.walls:  # they fall: down to the floor
-        lo[1] = min(lo[1], float(sim.params.floor))
+    # Bodies fall and topple: sideways by up to their size (a domino by its height), down to the floor.
+    reach = 2.0 * _largest_radius(sim)
+    lo[[0, 2]] -= reach
+    hi[[0, 2]] += reach
+    if sim.params.walls:  # ... and never through the walls
+        wall, floor = float(sim.params.wall), float(sim.params.floor)
+        lo[1] = min(lo[1], floor)
+        lo[[0, 2]] = np.maximum(lo[[0, 2]], -wall)
+        hi[[0, 2]] = np.minimum(hi[[0, 2]], wall)
     centre = 0.5 * (lo + hi)
     half = np.maximum(0.5 * (hi - lo), 0.5 * MIN_EXTENT)
     return dict(target=tuple(centre), azimuth_deg=MANY_AZIMUTH, elevation_deg=MANY_ELEVATION,
@@ -171,6 +179,12 @@ class SceneCamera:
             return
         mass = self.sim.model.body_mass_np
         self.orbit.target = tuple((mass @ x) / mass.sum())
+
+
+def _largest_radius(sim) -> float:
+    """The largest distance of a particle from its body's centre of mass (the model's r0)."""
+    r0 = sim.model.r0_np
+    return float(np.sqrt((r0 * r0).sum(axis=1)).max()) if len(r0) else 0.0
 
 
 def _number(value) -> bool:

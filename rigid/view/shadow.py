@@ -17,7 +17,7 @@ import taichi as ti
 SIZE = 128  # cells along each side of the floor
 DARKEST = 0.55  # a body resting on the floor takes this fraction of the light under its middle
 BLUR = 0.35  # the blur's standard deviation grows by this many metres per metre of height
-FADE = 2.5  # the shadow fades as 1 / (1 + FADE h / size): h the height, size the footprint's
+FADE = 0.6  # m: the shadow's darkness falls as 1 / (1 + h / FADE), h the lowest point's height
 CUTOFF = 18.0  # Mahalanobis² beyond which a body's factor is 1 (exp(-9) ~ 1e-4)
 
 
@@ -44,11 +44,10 @@ class ContactShadows:
         szz = np.add.reduceat(z * z, starts) / n - mz * mz
         sxz = np.add.reduceat(x * z, starts) / n - mx * mz
         height = np.maximum(np.minimum.reduceat(points[:, 1], starts) - self.floor, 0.0)
-        size = np.sqrt(np.maximum(sxx + szz, 1e-8))
         blur = (BLUR * height + 0.01) ** 2
         sxx, szz = sxx + blur, szz + blur
         det = np.maximum(sxx * szz - sxz * sxz, 1e-12)
-        dark = DARKEST / (1.0 + FADE * height / size)
+        dark = DARKEST / (1.0 + height / FADE)
         blobs = np.stack([mx, mz, szz / det, -sxz / det, sxx / det, dark], axis=1)
         self.blobs.from_numpy(blobs.astype(np.float32))
         self._shade(self.num_bodies)

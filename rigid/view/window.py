@@ -23,7 +23,8 @@ from ..run.runner import RunResult, StopRun, run_frames
 from .vulkan import require_display
 
 
-def run_window(sim, frames: int | None = None, export_path=None, screenshot=None, resolution=None) -> RunResult:
+def run_window(sim, frames: int | None = None, export_path=None, screenshot=None, resolution=None,
+               camera=None) -> RunResult:
     """Show ``sim`` until the window closes (or for ``frames`` frames); return the last run's result.
 
     ``resolution`` (W, H): the window's size; None takes the simulator's ``config.resolution``.
@@ -33,8 +34,10 @@ def run_window(sim, frames: int | None = None, export_path=None, screenshot=None
 
     shield_x_server_from_ctrl_c()  # under xvfb-run in a terminal, Ctrl-C would stop the X server too
     size = tuple(resolution or sim.config.resolution)
-    renderer = SceneRenderer(sim, size, offscreen=False, title="Rigid body (HKU COMP3360 A3)", fps_limit=60)
-    renderer.orbit.zoom(1.15)  # a little further out than the video: the panel covers the right
+    renderer = SceneRenderer(sim, size, offscreen=False, title="Rigid body (HKU COMP3360 A3)", fps_limit=60,
+                             camera=camera)
+    if camera is None or camera.position is None:
+        renderer.orbit.zoom(1.15)  # a little further out than the video: the panel covers the right
     try:
         with ctrl_c_between_frames() as interrupted:
             loop = _WindowLoop(sim, renderer, screenshot=bool(screenshot), frames=frames, interrupted=interrupted)
