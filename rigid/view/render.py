@@ -28,6 +28,7 @@ BOX_COLOR = (0.25, 0.3, 0.4)
 TILE_COLORS = ((0.86, 0.87, 0.9), (0.74, 0.76, 0.8))
 FLOOR_TILES = 8  # per side
 GRID_COLOR = (0.72, 0.74, 0.78)
+SPRING_COLOR = (0.85, 0.1, 0.1)
 GRID_HALF_WIDTH, GRID_STEP = 2.0, 0.25  # m: without walls, lines every 25 cm on the floor plane, 4 m across
 AMBIENT, LIGHT = (0.35, 0.35, 0.35), ((2.5, 4.0, 3.5), (0.75, 0.75, 0.75))
 
@@ -54,6 +55,8 @@ class SceneRenderer:
         self.camera = SceneCamera(sim, camera, aspect=size[0] / size[1])
         self.orbit = self.camera.orbit  # the mouse orbits it; follow moves its target
         self.wireframe = False
+        self.spring = None  # (from, to): the mouse's grab, drawn as a line (grab.py)
+        self._spring_line = ti.Vector.field(3, ti.f32, shape=2)
         self._build_box(float(sim.params.floor), float(sim.params.wall))
         m = sim.model
         self.surface = ti.Vector.field(3, ti.f32, shape=max(m.num_surface, 1))
@@ -123,6 +126,9 @@ class SceneRenderer:
             self.particles.from_numpy(points)
             raster.particles(self.particles, radius=0.015, color=BODY_COLOR,
                              per_vertex_color=self.particle_colors)
+        if self.spring is not None:
+            self._spring_line.from_numpy(np.asarray(self.spring, np.float32))
+            raster.lines(self._spring_line, width=2.5, color=SPRING_COLOR)
         if self.shadows is not None and sim.params.walls:
             self.shadows.update(points, self._shadow_counts)
         raster.finish(self.shadows if sim.params.walls else None)
