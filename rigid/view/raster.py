@@ -29,7 +29,8 @@ from .raster_data import Triangles, VertexNormals
 NEAR = 0.05  # m: primitives with a vertex nearer the eye than this are skipped
 LINE_BIAS = 1e-3  # lines are drawn this fraction of their depth nearer, to win over the face under them
 EMPTY = 1 << 62  # a pixel's key before any triangle covers it
-CULLED, FLAT, LIT, LIT_TWO_SIDED, RECEIVER = 0, 1, 2, 3, 4  # triangle kinds (RECEIVER: two-sided, shadowed)
+# Triangle kinds. RECEIVER: lit two-sided and shadowed; FRONT: lit, skipped where it faces away.
+CULLED, FLAT, LIT, LIT_TWO_SIDED, RECEIVER, FRONT = 0, 1, 2, 3, 4, 5
 WIRE_COLOR = (0.15, 0.15, 0.15)
 vec3 = ti.types.vector(3, ti.f32)
 
@@ -64,7 +65,7 @@ class Rasterizer:
         self.count = 0
 
     def mesh(self, vertices, indices=None, normals=None, color=(0.5, 0.5, 0.5), per_vertex_color=None,
-             two_sided=False, show_wireframe=False, receives_shadow=False) -> None:
+             two_sided=False, show_wireframe=False, receives_shadow=False, cull_back=False) -> None:
         """Triangles ``indices`` (3 per triangle; None: vertices 3t, 3t+1, 3t+2) of a vec3 field.
 
         The arguments mean what they mean for GGUI's ``scene.mesh``. Normals: the ``normals``
@@ -76,7 +77,8 @@ class Rasterizer:
             normals = self._normals.of(vertices, indices)
         base = self._reserve(n)
         self._emit_mesh(self.tris, base, n, vertices, _or0(indices), _or0(normals), _or0(per_vertex_color),
-                        vec3(*color), RECEIVER if receives_shadow else LIT_TWO_SIDED if two_sided else LIT)
+                        vec3(*color), RECEIVER if receives_shadow else FRONT if cull_back
+                        else LIT_TWO_SIDED if two_sided else LIT)
         if show_wireframe:
             base = self._reserve(6 * n)
             self._emit_edges(self.tris, base, n, vertices, _or0(indices), self._line_half_width(1.0), vec3(WIRE_COLOR))
@@ -222,7 +224,7 @@ class Rasterizer:
             if tris.kind[t] != CULLED:
                 a, b, c = tris.vs[3 * t], tris.vs[3 * t + 1], tris.vs[3 * t + 2]
                 area = _edge(a, b, c[0], c[1])
-                if ti.abs(area) > 1e-9:
+                if ti.abs(area) > 1e-9 and (area > 0 or tris.kind[t] != FRONT):  # FRONT: counter-clockwise only
                     sign = 1.0 if area > 0 else -1.0
                     x0 = ti.max(0, ti.cast(ti.floor(ti.min(a[0], b[0], c[0])), ti.i32))
                     x1 = ti.min(self.width - 1, ti.cast(ti.ceil(ti.max(a[0], b[0], c[0])), ti.i32))
@@ -256,7 +258,7 @@ class Rasterizer:
                     normal = (w[0] * tris.vn[3 * t] + w[1] * tris.vn[3 * t + 1] + w[2] * tris.vn[3 * t + 2])
                     p = w[0] * tris.vp[3 * t] + w[1] * tris.vp[3 * t + 1] + w[2] * tris.vp[3 * t + 2]
                     normal = normal.normalized(1e-20)
-                    if tris.kind[t] >= LIT_TWO_SIDED and normal.dot(eye - p) < 0:
+                    if (tris.kind[t] == LIT_TWO_SIDED or tris.kind[t] == RECEIVER) and normal.dot(eye - p) < 0:
                         normal = -normal
                     diffuse = ti.max(0.0, normal.dot((light - p).normalized(1e-20)))
                     rgb = rgb * (ambient + light_color * diffuse)

@@ -19,6 +19,7 @@ from ..errors import UserError
 from .camera import SceneCamera
 from .panel import PANEL_TITLE
 from .raster import Rasterizer
+from .raster_data import closed_and_outward
 from .shadow import ContactShadows
 from .vulkan import INSTALL_HINT, require_vulkan
 
@@ -63,6 +64,9 @@ class SceneRenderer:
         self.indices = ti.field(ti.i32, shape=max(3 * m.num_faces, 3))
         if m.num_faces:
             self.indices.from_numpy(m.faces_np.reshape(-1).astype(np.int32))
+        # Closed meshes wound outwards (the assets) skip their back faces: half the triangles.
+        self.cull_back = bool(m.num_faces) and closed_and_outward(
+            np.concatenate(m.surfaces_np), m.faces_np, m.surface_body_np[m.faces_np[:, 0]])
         self.particles = ti.Vector.field(3, ti.f32, shape=m.num_particles)
         self.vertex_colors = self.particle_colors = None
         if sim.many:  # each body its own colour (body_palette)
@@ -70,10 +74,11 @@ class SceneRenderer:
             self.vertex_colors = _vec_field(palette[m.surface_body_np]) if m.num_surface else None
             self.particle_colors = _vec_field(palette[sim.particle_bodies()])
         # Under each body a soft shadow on the floor (shadow.py); none without walls (no floor drawn).
-        self.shadows = ContactShadows(m.num_bodies, float(sim.params.floor), float(sim.params.wall)) \
-            if sim.params.walls else None
-        self._shadow_counts = np.bincount(m.surface_body_np, minlength=m.num_bodies) if m.num_faces \
-            else np.asarray(m.body_count_np)
+        self.shadows = None
+        if sim.params.walls:
+            points = np.concatenate(m.surfaces_np) if m.num_faces else m.r0_np[m.slot_of]
+            counts = np.bincount(m.surface_body_np, minlength=m.num_bodies) if m.num_faces else m.body_count_np
+            self.shadows = ContactShadows(m.num_bodies, float(sim.params.floor), float(sim.params.wall), points, counts)
 
     def _build_box(self, floor: float, wall: float) -> None:
         """Floor tiles (two triangles each, own vertices so colours stay flat) and 12 box edges."""
@@ -115,22 +120,19 @@ class SceneRenderer:
             raster.lines(self.box_lines, width=2.0, color=BOX_COLOR)
         else:  # free flight: a grid on the floor plane to see motion against
             raster.lines(self.grid_lines, width=1.0, color=GRID_COLOR)
-        points = None
         if sim.model.num_faces:
-            points = np.asarray(sim.surface_positions(), np.float32)
-            self.surface.from_numpy(points)
-            raster.mesh(self.surface, self.indices, color=BODY_COLOR, two_sided=True,
+            self.surface.from_numpy(np.asarray(sim.surface_positions(), np.float32))
+            raster.mesh(self.surface, self.indices, color=BODY_COLOR, two_sided=True, cull_back=self.cull_back,
                         show_wireframe=self.wireframe, per_vertex_color=self.vertex_colors)
         else:  # a point cloud: draw the particles
-            points = sim.particle_positions().astype(np.float32)
-            self.particles.from_numpy(points)
+            self.particles.from_numpy(sim.particle_positions().astype(np.float32))
             raster.particles(self.particles, radius=0.015, color=BODY_COLOR,
                              per_vertex_color=self.particle_colors)
         if self.spring is not None:
             self._spring_line.from_numpy(np.asarray(self.spring, np.float32))
             raster.lines(self._spring_line, width=2.5, color=SPRING_COLOR)
         if self.shadows is not None and sim.params.walls:
-            self.shadows.update(points, self._shadow_counts)
+            self.shadows.update(sim.state.x.to_numpy().astype(np.float64), sim.state.R.to_numpy().astype(np.float64))
         raster.finish(self.shadows if sim.params.walls else None)
         if self.canvas is not None:
             self.canvas.set_image(raster.image)

@@ -14,57 +14,66 @@ cheap tests, an exponential only near a body.
 import numpy as np
 import taichi as ti
 
-SIZE = 128  # cells along each side of the floor
+SIZE = 96  # cells along each side of the floor (2 cm in the 2 m box; the shadows are soft)
 DARKEST = 0.55  # a body resting on the floor takes this fraction of the light under its middle
-BLUR = 0.35  # the blur's standard deviation grows by this many metres per metre of height
+BLUR, MAX_BLUR = 0.35, 0.12  # m: the blur's standard deviation grows by BLUR per metre of height, to MAX_BLUR
 FADE = 0.6  # m: the shadow's darkness falls as 1 / (1 + h / FADE), h the lowest point's height
-CUTOFF = 18.0  # Mahalanobis² beyond which a body's factor is 1 (exp(-9) ~ 1e-4)
+CUTOFF = 12.0  # Mahalanobis² beyond which a body's factor is 1 (exp(-6) ~ 0.25 %)
 
 
 @ti.data_oriented
 class ContactShadows:
-    def __init__(self, num_bodies: int, floor: float, half_width: float):
+    def __init__(self, num_bodies: int, floor: float, half_width: float, points=None, counts=None):
+        """``points`` (V, 3) and ``counts`` (B,): the drawn points of each body, in its own frame
+        about its centre of mass (body after body); their mean and covariance there give the
+        footprint, turned with the body every frame (no per-vertex work per frame)."""
         self.floor, self.half = float(floor), float(half_width)
         self.shade = ti.field(ti.f32, shape=(SIZE, SIZE))
-        # per body: mean x, mean z, inverse covariance (xx, xz, zz), darkness
-        self.blobs = ti.Vector.field(6, ti.f32, shape=max(1, num_bodies))
+        # per body: mean x, mean z, inverse covariance (xx, xz, zz), darkness, cell box (i0, i1, k0, k1)
+        self.blobs = ti.Vector.field(10, ti.f32, shape=max(1, num_bodies))
         self.box = ti.Vector.field(3, ti.f32, shape=1)  # x0, z0, cells per metre
         self.box.from_numpy(np.array([[-self.half, -self.half, SIZE / (2.0 * self.half)]], np.float32))
         self.num_bodies = num_bodies
-
-    def update(self, points: np.ndarray, counts: np.ndarray) -> None:
-        """Recompute the floor's shade from the bodies' drawn points ((V, 3), body after body,
-        ``counts`` per body)."""
-        points = np.asarray(points, np.float64)
+        points = np.asarray(points, np.float64).reshape(-1, 3)
         starts = np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(np.int64)
-        n = np.maximum(np.asarray(counts, np.float64), 1.0)
-        x, z = points[:, 0], points[:, 2]
-        mx, mz = np.add.reduceat(x, starts) / n, np.add.reduceat(z, starts) / n
-        sxx = np.add.reduceat(x * x, starts) / n - mx * mx
-        szz = np.add.reduceat(z * z, starts) / n - mz * mz
-        sxz = np.add.reduceat(x * z, starts) / n - mx * mz
-        height = np.maximum(np.minimum.reduceat(points[:, 1], starts) - self.floor, 0.0)
-        blur = (BLUR * height + 0.01) ** 2
-        sxx, szz = sxx + blur, szz + blur
+        n = np.maximum(np.asarray(counts, np.float64), 1.0)[:, None]
+        self.mean0 = np.add.reduceat(points, starts) / n  # (B, 3) in the body frame
+        rel = points - np.repeat(self.mean0, counts, axis=0)
+        self.cov0 = np.add.reduceat(rel[:, :, None] * rel[:, None, :], starts) / n[:, :, None]  # (B, 3, 3)
+
+    def update(self, x: np.ndarray, R: np.ndarray) -> None:
+        """Recompute the floor's shade for bodies at centres ``x`` (B, 3), rotations ``R`` (B, 3, 3)."""
+        mean = x + np.einsum("bij,bj->bi", R, self.mean0)
+        cov = R @ self.cov0 @ R.transpose(0, 2, 1)
+        # The lowest point, as for a uniform spread: the mean less √3 standard deviations (exact
+        # for a sphere's surface), never below the floor.
+        height = np.maximum(mean[:, 1] - np.sqrt(3.0 * np.maximum(cov[:, 1, 1], 0.0)) - self.floor, 0.0)
+        blur = np.minimum(BLUR * height + 0.01, MAX_BLUR) ** 2  # (and a small box of cells for each body)
+        sxx, szz, sxz = cov[:, 0, 0] + blur, cov[:, 2, 2] + blur, cov[:, 0, 2]
         det = np.maximum(sxx * szz - sxz * sxz, 1e-12)
         dark = DARKEST / (1.0 + height / FADE)
-        blobs = np.stack([mx, mz, szz / det, -sxz / det, sxx / det, dark], axis=1)
+        # The cells where the factor matters: |d_x| <= sqrt(CUTOFF sxx), likewise in z.
+        cells = SIZE / (2.0 * self.half)
+        rx, rz = np.sqrt(CUTOFF * sxx) * cells, np.sqrt(CUTOFF * szz) * cells
+        ci, ck = (mean[:, 0] + self.half) * cells, (mean[:, 2] + self.half) * cells
+        box = np.stack([ci - rx, ci + rx, ck - rz, ck + rz], axis=1).clip(-1, SIZE)
+        blobs = np.column_stack([mean[:, 0], mean[:, 2], szz / det, -sxz / det, sxx / det, dark, box])
         self.blobs.from_numpy(blobs.astype(np.float32))
         self._shade(self.num_bodies)
 
     @ti.kernel
     def _shade(self, num_bodies: ti.i32):
         box = self.box[0]
-        for i, k in self.shade:
-            px = box[0] + (i + 0.5) / box[2]
-            pz = box[1] + (k + 0.5) / box[2]
+        for i, k in self.shade:  # cells in parallel; in each, the bodies in order (the same product every run)
             light = 1.0
-            for b in range(num_bodies):  # in body order: the same product every run
+            for b in range(num_bodies):
                 blob = self.blobs[b]
-                dx, dz = px - blob[0], pz - blob[1]
-                q = blob[2] * dx * dx + 2.0 * blob[3] * dx * dz + blob[4] * dz * dz
-                if q < CUTOFF:
-                    light *= 1.0 - blob[5] * ti.exp(-0.5 * q)
+                if blob[6] <= i and i <= blob[7] and blob[8] <= k and k <= blob[9]:
+                    dx = box[0] + (i + 0.5) / box[2] - blob[0]
+                    dz = box[1] + (k + 0.5) / box[2] - blob[1]
+                    q = blob[2] * dx * dx + 2.0 * blob[3] * dx * dz + blob[4] * dz * dz
+                    if q < CUTOFF:
+                        light *= 1.0 - blob[5] * ti.exp(-0.5 * q)
             self.shade[i, k] = light
 
     @ti.func
