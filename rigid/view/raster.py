@@ -37,8 +37,11 @@ vec3 = ti.types.vector(3, ti.f32)
 
 @ti.data_oriented
 class Rasterizer:
-    def __init__(self, width: int, height: int, capacity: int = 4096):
+    def __init__(self, width: int, height: int, capacity: int = 4096, window: bool = False):
+        """``window``: the picture goes to GGUI's canvas (``image``) only, not to ``rgba``
+        (``read_rgba`` then converts ``image``: for a screenshot); else to ``rgba`` only."""
         self.width, self.height = int(width), int(height)
+        self.window = bool(window)
         self.image = ti.Vector.field(4, ti.u8, shape=(self.width, self.height))  # for canvas.set_image
         self.rgba = ti.field(ti.u32, shape=(self.height, self.width))  # the same, top row first, for files
         self.key = ti.field(ti.i64, shape=(self.width, self.height))
@@ -99,10 +102,12 @@ class Rasterizer:
         """Rasterise the queued triangles into ``image`` (and clear the depth keys for the next frame);
         ``shadows`` (shadow.ContactShadows) darkens the triangles drawn with ``receives_shadow``."""
         self._raster(self.tris, self.count)
-        self._resolve(self.tris, _or0(shadows))
+        self._resolve(self.tris, _or0(shadows), self.window)
 
     def read_rgba(self) -> np.ndarray:
         """The picture as (H, W, 4) uint8 RGBA, top row first, contiguous (a new array)."""
+        if self.window:
+            return np.ascontiguousarray(self.image.to_numpy().transpose(1, 0, 2)[::-1])
         return self.rgba.to_numpy().view(np.uint8).reshape(self.height, self.width, 4)
 
     # ---- storage ----------------------------------------------------------------------------
@@ -242,7 +247,7 @@ class Rasterizer:
                                 ti.atomic_min(self.key[x, y], (bits << 32) | ti.cast(t, ti.i64))
 
     @ti.kernel
-    def _resolve(self, tris: ti.template(), shadows: ti.template()):
+    def _resolve(self, tris: ti.template(), shadows: ti.template(), window: ti.template()):
         eye, light, light_color, ambient, background = self.cam[0], self.cam[4], self.cam[5], self.cam[6], self.cam[7]
         for x, y in self.key:
             key = self.key[x, y]
@@ -266,8 +271,10 @@ class Rasterizer:
                         if tris.kind[t] == RECEIVER:
                             rgb = rgb * shadows.at(p)
             byte = ti.cast(ti.min(ti.max(rgb, 0.0), 1.0) * 255.0 + 0.5, ti.u32)
-            self.image[x, y] = ti.Vector([byte[0], byte[1], byte[2], 255], ti.u8)
-            self.rgba[self.height - 1 - y, x] = byte[0] | (byte[1] << 8) | (byte[2] << 16) | ti.u32(0xFF000000)
+            if ti.static(window):  # one picture written, the one that is read
+                self.image[x, y] = ti.Vector([byte[0], byte[1], byte[2], 255], ti.u8)
+            else:
+                self.rgba[self.height - 1 - y, x] = byte[0] | (byte[1] << 8) | (byte[2] << 16) | ti.u32(0xFF000000)
             self.key[x, y] = ti.i64(EMPTY)
 
 

@@ -52,7 +52,7 @@ class SceneRenderer:
                 raise UserError(f"GGUI could not start ({err}); {INSTALL_HINT}") from None
             self.canvas = self.window.get_canvas()
         self.sim = sim
-        self.raster = Rasterizer(*size)
+        self.raster = Rasterizer(*size, window=not offscreen)
         self.camera = SceneCamera(sim, camera, aspect=size[0] / size[1])
         self.orbit = self.camera.orbit  # the mouse orbits it; follow moves its target
         self.wireframe = False
