@@ -55,7 +55,7 @@ def show(sim, frames: int = 300, resolution=DEFAULT_SIZE, camera=None, format: s
     (H.264, 60 fps) or "gif" (30 fps)."""
     if format not in ("mp4", "gif"):
         raise ValueError(f"format = {format!r}: use 'mp4' or 'gif'")
-    size = _size(resolution)
+    size = _size(resolution, even=True)
     fd, tmp = tempfile.mkstemp(suffix=f".{format}")
     os.close(fd)
     try:
@@ -106,8 +106,8 @@ def _draw_run(sim, frames: int, size, camera, take, overlay: bool = True) -> dic
     return {key: np.concatenate([b[key] for b in blocks]) for key in blocks[0]}
 
 
-def _size(resolution) -> tuple[int, int]:
+def _size(resolution, even: bool = False) -> tuple[int, int]:
     w, h = (int(r) for r in resolution)
     if not (16 <= w <= 8192 and 16 <= h <= 8192):
         raise ValueError(f"resolution = {w} x {h}: width and height go from 16 to 8192 pixels")
-    return w + w % 2, h + h % 2  # H.264 in yuv420p needs even sizes
+    return (w + w % 2, h + h % 2) if even else (w, h)  # H.264 in yuv420p needs even sizes
