@@ -14,8 +14,10 @@ import math
 
 import numpy as np
 
-# The panel's rectangle in cursor coordinates ([0, 1]², y up), from panel.py's sub_window.
-PANEL_RECT = (0.725, 0.46, 0.995, 0.98)
+from .panel import PANEL_PLACE
+
+# The panel's rectangle in cursor coordinates ([0, 1]², y up), from panel.py's PANEL_PLACE.
+PANEL_RECT = (PANEL_PLACE[0], 1.0 - PANEL_PLACE[1] - PANEL_PLACE[3], PANEL_PLACE[0] + PANEL_PLACE[2], 1.0 - PANEL_PLACE[1])
 POINT_PICK = 0.04  # m: a point cloud's particle is picked if the ray passes this close (plus its radius)
 
 

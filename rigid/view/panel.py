@@ -14,6 +14,7 @@ KICK_SPEED = 2.5  # m/s: the random kick changes the body's speed by about this 
 
 HELP = ("space pause  n step  r reset  k kick  esc quit\n"
         "left-drag a body: grab it (release lets go)\nright-drag orbit  middle-drag/arrows zoom")
+PANEL_PLACE = (0.725, 0.02, 0.27, 0.6)  # x, y from the top, width, height: fractions of the window
 READOUT_SECONDS = 0.25  # the energies and momenta are read (a kernel: the contact energy) 4 times a second
 
 
@@ -52,7 +53,7 @@ class ControlPanel:
         snap = self.snapshot()
         kinetic, potential = snap["kinetic_energy"], snap["potential_energy"]
         pressed = {}
-        with gui.sub_window(PANEL_TITLE, 0.725, 0.02, 0.27, 0.52) as w:
+        with gui.sub_window(PANEL_TITLE, *PANEL_PLACE) as w:
             w.text(f"t = {sim.time:.3f} s   frame {sim.frame}   {fps:.0f} fps")
             if timing:
                 w.text(speed_line(fps, sim.substeps * float(prm.dt), timing, self.paused))
@@ -92,14 +93,14 @@ class ControlPanel:
 
 
 def speed_line(fps: float, frame_seconds: float, timing: dict, paused: bool) -> str:
-    """E.g. "simulation 0.4x real time: simulating 38 ms, drawing 9 ms a frame" (ASCII: imgui's
-    default font has no multiplication sign)."""
+    """E.g. "simulation 0.4x real time" and, on a second line, "simulating 38 ms, drawing 9 ms a
+    frame" (ASCII: imgui's default font has no multiplication sign)."""
     split = f"simulating {timing['sim_ms']:.0f} ms, drawing {timing['draw_ms']:.0f} ms a frame"
     if paused:
-        return "paused: " + split
+        return "paused\n" + split
     factor = fps * frame_seconds
     pace = "real time" if factor >= 0.95 else f"simulation {factor:.2g}x real time"
-    return f"{pace}: {split}"
+    return f"{pace}\n{split}"
 
 
 def _differs(new: float, old: float) -> bool:
