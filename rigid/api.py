@@ -71,7 +71,8 @@ def show(sim: Simulator, frames: int = 300, resolution=(640, 360), camera=None, 
     or an animated GIF with ``format="gif"``), drawn by the project's software renderer: no
     display, no Vulkan. ``.rows`` holds the trajectory (for plots), ``.frames`` the pictures
     (``keep_frames``), ``.save(path)`` writes the file. ``camera``: the [camera] table's keys
-    (position, look_at, fov, follow), e.g. ``dict(follow="centre")``; None frames the scene."""
+    (position, look_at, fov, follow), e.g. ``dict(follow="centre")``; None takes the scene's
+    [camera] table, else frames the scene."""
     from .view.notebook import show as _show
 
     return _show(sim, frames, resolution, camera, format, keep_frames)

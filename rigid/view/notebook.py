@@ -51,8 +51,8 @@ def show(sim, frames: int = 300, resolution=DEFAULT_SIZE, camera=None, format: s
          keep_frames: bool = False) -> Video:
     """Simulate ``frames`` frames of ``sim`` from its current state and return them as a Video
     (frame 0 the current state). ``camera``: a dict of the [camera] table's keys (position,
-    look_at, fov, follow) or a camera.CameraSpec; None frames the scene. ``format``: "mp4"
-    (H.264, 60 fps) or "gif" (30 fps)."""
+    look_at, fov, follow) or a camera.CameraSpec; None: the scene's [camera] table, else a
+    framed view. ``format``: "mp4" (H.264, 60 fps) or "gif" (30 fps)."""
     if format not in ("mp4", "gif"):
         raise ValueError(f"format = {format!r}: use 'mp4' or 'gif'")
     size = _size(resolution, even=True)
@@ -86,6 +86,8 @@ def _draw_run(sim, frames: int, size, camera, take, overlay: bool = True) -> dic
 
     if frames < 1:
         raise ValueError(f"frames = {frames}: show at least one frame")
+    if camera is None:  # the scene's [camera] table, if it has one
+        camera = getattr(sim.config, "camera", None)
     spec = camera if isinstance(camera, CameraSpec) or camera is None else camera_spec(dict(camera))
     renderer = SceneRenderer(sim, size, offscreen=True, camera=spec)
     text = TextOverlay(size[1]) if overlay else None
