@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import UserError
-from .orbit import OrbitCamera
+from .orbit import MAX_ELEVATION, MIN_ELEVATION, OrbitCamera
 
 KEYS = ("position", "look_at", "fov", "follow")
 DEFAULT_FOV = 45.0
@@ -166,7 +166,9 @@ class SceneCamera:
                 raise UserError("camera: position and look_at are the same point; move the eye away from it")
             self.orbit.target = tuple(target)
             self.orbit.distance = float(np.linalg.norm(offset))
-            self.orbit.elevation = math.asin(max(-1.0, min(1.0, offset[1] / self.orbit.distance)))
+            # Straight down (90°) has no "up" to turn the picture by: kept within the orbit's range.
+            elevation = math.asin(max(-1.0, min(1.0, offset[1] / self.orbit.distance)))
+            self.orbit.elevation = min(MAX_ELEVATION, max(MIN_ELEVATION, elevation))
             self.orbit.azimuth = math.atan2(offset[0], offset[2])
 
     def update(self) -> None:
