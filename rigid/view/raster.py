@@ -236,7 +236,8 @@ class Rasterizer:
                     y0 = ti.max(0, ti.cast(ti.floor(ti.min(a[1], b[1], c[1])), ti.i32))
                     y1 = ti.min(self.height - 1, ti.cast(ti.ceil(ti.max(a[1], b[1], c[1])), ti.i32))
                     for x in range(x0, x1 + 1):
-                        for y in range(y0, y1 + 1):
+                        ys, ye = _column_span(a, b, c, sign, x + 0.5, y0, y1)
+                        for y in range(ys, ye + 1):
                             px, py = x + 0.5, y + 0.5
                             w0 = sign * _edge(b, c, px, py)
                             w1 = sign * _edge(c, a, px, py)
@@ -281,6 +282,28 @@ class Rasterizer:
 def _or0(field):
     """Taichi templates take no None: 0 stands for an absent field (tested with ti.static)."""
     return 0 if field is None else field
+
+
+@ti.func
+def _column_span(a, b, c, sign, px, y0, y1):
+    """The rows y0..y1 of column px where the triangle may cover a pixel centre: each edge's
+    function is linear in py along the column, w = k py + m >= 0, which bounds py from one side.
+    Widened by a row at each end, so the exact test in _raster decides every pixel (the same
+    pixels as the whole bounding box, a big triangle's empty half skipped)."""
+    lo, hi = y0 + 0.5, y1 + 0.5
+    for e in ti.static(range(3)):
+        p, q = (b, c, a)[e], (c, a, b)[e]
+        k = sign * (q[0] - p[0])
+        m = sign * (-(q[0] - p[0]) * p[1] - (q[1] - p[1]) * (px - p[0]))
+        if k > 0:
+            lo = ti.max(lo, -m / k)
+        elif k < 0:
+            hi = ti.min(hi, -m / k)
+        elif m < 0:
+            hi = lo - 2.0  # parallel to the column and outside it: no row
+    start = ti.max(y0, ti.cast(ti.ceil(lo - 0.5), ti.i32) - 1)
+    end = ti.min(y1, ti.cast(ti.floor(hi - 0.5), ti.i32) + 1)
+    return start, end
 
 
 @ti.func
