@@ -12,9 +12,15 @@ def test_a_shadow_under_a_body_fades_with_height_and_the_picture_is_reproducible
     shadows = renderer.shadows
     grid = shadows.shade.to_numpy
 
+    import taichi as ti
+
+    x = ti.ndarray(ti.types.vector(3, ti.f32), 1)
+    R = ti.ndarray(ti.types.matrix(3, 3, ti.f32), 1)
+    R.from_numpy(np.eye(3, dtype=np.float32)[None])
+
     def shade_under(height_of_centre):
-        x = np.array([[0.2, -1.0 + height_of_centre, -0.1]])
-        shadows.update(x, np.eye(3)[None])
+        x.from_numpy(np.array([[0.2, -1.0 + height_of_centre, -0.1]], np.float32))
+        shadows.update(x, R)
         shade = grid()
         i, k = (np.array([0.2, -0.1]) + 1.0) / 2.0 * shade.shape[0]
         return shade[int(i), int(k)], shade[0, 0]

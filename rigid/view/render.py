@@ -132,7 +132,7 @@ class SceneRenderer:
             self._spring_line.from_numpy(np.asarray(self.spring, np.float32))
             raster.lines(self._spring_line, width=2.5, color=SPRING_COLOR)
         if self.shadows is not None and sim.params.walls:
-            self.shadows.update(sim.state.x.to_numpy().astype(np.float64), sim.state.R.to_numpy().astype(np.float64))
+            self.shadows.update(sim.state.x, sim.state.R)  # read on the device
         raster.finish(self.shadows if sim.params.walls else None)
         if self.canvas is not None:
             self.canvas.set_image(raster.image)

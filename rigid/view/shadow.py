@@ -37,29 +37,42 @@ class ContactShadows:
         points = np.asarray(points, np.float64).reshape(-1, 3)
         starts = np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(np.int64)
         n = np.maximum(np.asarray(counts, np.float64), 1.0)[:, None]
-        self.mean0 = np.add.reduceat(points, starts) / n  # (B, 3) in the body frame
-        rel = points - np.repeat(self.mean0, counts, axis=0)
-        self.cov0 = np.add.reduceat(rel[:, :, None] * rel[:, None, :], starts) / n[:, :, None]  # (B, 3, 3)
+        mean0 = np.add.reduceat(points, starts) / n  # (B, 3) in the body frame
+        rel = points - np.repeat(mean0, counts, axis=0)
+        cov0 = np.add.reduceat(rel[:, :, None] * rel[:, None, :], starts) / n[:, :, None]  # (B, 3, 3)
+        self.mean0 = ti.Vector.field(3, ti.f32, shape=max(1, num_bodies))
+        self.cov0 = ti.Matrix.field(3, 3, ti.f32, shape=max(1, num_bodies))
+        self.mean0.from_numpy(mean0.astype(np.float32))
+        self.cov0.from_numpy(cov0.astype(np.float32))
 
-    def update(self, x: np.ndarray, R: np.ndarray) -> None:
-        """Recompute the floor's shade for bodies at centres ``x`` (B, 3), rotations ``R`` (B, 3, 3)."""
-        mean = x + np.einsum("bij,bj->bi", R, self.mean0)
-        cov = R @ self.cov0 @ R.transpose(0, 2, 1)
-        # The lowest point, as for a uniform spread: the mean less √3 standard deviations (exact
-        # for a sphere's surface), never below the floor.
-        height = np.maximum(mean[:, 1] - np.sqrt(3.0 * np.maximum(cov[:, 1, 1], 0.0)) - self.floor, 0.0)
-        blur = np.minimum(BLUR * height + 0.01, MAX_BLUR) ** 2  # (and a small box of cells for each body)
-        sxx, szz, sxz = cov[:, 0, 0] + blur, cov[:, 2, 2] + blur, cov[:, 0, 2]
-        det = np.maximum(sxx * szz - sxz * sxz, 1e-12)
-        dark = DARKEST / (1.0 + height / FADE)
-        # The cells where the factor matters: |d_x| <= sqrt(CUTOFF sxx), likewise in z.
-        cells = SIZE / (2.0 * self.half)
-        rx, rz = np.sqrt(CUTOFF * sxx) * cells, np.sqrt(CUTOFF * szz) * cells
-        ci, ck = (mean[:, 0] + self.half) * cells, (mean[:, 2] + self.half) * cells
-        box = np.stack([ci - rx, ci + rx, ck - rz, ck + rz], axis=1).clip(-1, SIZE)
-        blobs = np.column_stack([mean[:, 0], mean[:, 2], szz / det, -sxz / det, sxx / det, dark, box])
-        self.blobs.from_numpy(blobs.astype(np.float32))
+    def update(self, x, R) -> None:
+        """Recompute the floor's shade for bodies at centres ``x`` (an ndarray of B vec3, e.g. the
+        simulator's ``state.x``), rotations ``R`` (B mat3, ``state.R``): read on the device, no copy
+        to the host."""
+        self._blobs(x, R, self.mean0, self.cov0, self.num_bodies)
         self._shade(self.num_bodies)
+
+    @ti.kernel
+    def _blobs(self, x: ti.types.ndarray(), R: ti.types.ndarray(), mean0: ti.template(), cov0: ti.template(),
+               num_bodies: ti.i32):
+        half = self.half
+        cells = SIZE / (2.0 * half)
+        for b in range(num_bodies):
+            rot = ti.cast(R[b], ti.f32)
+            mean = ti.cast(x[b], ti.f32) + rot @ mean0[b]
+            cov = rot @ cov0[b] @ rot.transpose()
+            # The lowest point, as for a uniform spread: the mean less √3 standard deviations
+            # (exact for a sphere's surface), never below the floor.
+            height = ti.max(mean[1] - ti.sqrt(3.0 * ti.max(cov[1, 1], 0.0)) - self.floor, 0.0)
+            blur = ti.min(BLUR * height + 0.01, MAX_BLUR) ** 2  # (and a small box of cells for each body)
+            sxx, szz, sxz = cov[0, 0] + blur, cov[2, 2] + blur, cov[0, 2]
+            det = ti.max(sxx * szz - sxz * sxz, 1e-12)
+            # The cells where the factor matters: |d_x| <= sqrt(CUTOFF sxx), likewise in z.
+            rx, rz = ti.sqrt(CUTOFF * sxx) * cells, ti.sqrt(CUTOFF * szz) * cells
+            ci, ck = (mean[0] + half) * cells, (mean[2] + half) * cells
+            box = ti.math.clamp(ti.Vector([ci - rx, ci + rx, ck - rz, ck + rz]), -1.0, SIZE * 1.0)
+            self.blobs[b] = ti.Vector([mean[0], mean[2], szz / det, -sxz / det, sxx / det,
+                                       DARKEST / (1.0 + height / FADE), box[0], box[1], box[2], box[3]], ti.f32)
 
     @ti.kernel
     def _shade(self, num_bodies: ti.i32):
