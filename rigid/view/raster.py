@@ -25,6 +25,7 @@ import numpy as np
 import taichi as ti
 
 from .raster_data import Triangles, VertexNormals
+from .raster_edges import column_span as _column_span, edge as _edge
 
 NEAR = 0.05  # m: primitives with a vertex nearer the eye than this are skipped
 LINE_BIAS = 1e-3  # lines are drawn this fraction of their depth nearer, to win over the face under them
@@ -282,31 +283,3 @@ class Rasterizer:
 def _or0(field):
     """Taichi templates take no None: 0 stands for an absent field (tested with ti.static)."""
     return 0 if field is None else field
-
-
-@ti.func
-def _column_span(a, b, c, sign, px, y0, y1):
-    """The rows y0..y1 of column px where the triangle may cover a pixel centre: each edge's
-    function is linear in py along the column, w = k py + m >= 0, which bounds py from one side.
-    Widened by a row at each end, so the exact test in _raster decides every pixel (the same
-    pixels as the whole bounding box, a big triangle's empty half skipped)."""
-    lo, hi = y0 + 0.5, y1 + 0.5
-    for e in ti.static(range(3)):
-        p, q = (b, c, a)[e], (c, a, b)[e]
-        k = sign * (q[0] - p[0])
-        m = sign * (-(q[0] - p[0]) * p[1] - (q[1] - p[1]) * (px - p[0]))
-        if k > 0:
-            lo = ti.max(lo, -m / k)
-        elif k < 0:
-            hi = ti.min(hi, -m / k)
-        elif m < 0:
-            hi = lo - 2.0  # parallel to the column and outside it: no row
-    start = ti.max(y0, ti.cast(ti.ceil(lo - 0.5), ti.i32) - 1)
-    end = ti.min(y1, ti.cast(ti.floor(hi - 0.5), ti.i32) + 1)
-    return start, end
-
-
-@ti.func
-def _edge(a, b, px, py):
-    """Twice the signed area of (a, b, p) in screen space."""
-    return (b[0] - a[0]) * (py - a[1]) - (b[1] - a[1]) * (px - a[0])
