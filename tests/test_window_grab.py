@@ -73,7 +73,9 @@ def test_a_simulated_mouse_drags_the_body_toward_the_cursor_and_release_lets_go(
     assert np.dot(mouse.target - mouse.plane_point, mouse.plane_normal) < 1e-9  # dragged in the grab plane
     mouse.track(goal, False)  # released
     assert mouse.particle is None and sim.grabbed is None
-    assert sim.params.values.to_numpy()[24] == -1.0  # the engine's grab slot is empty
+    from rigid.engine.grab import GRAB_SLOT
+
+    assert sim.params.values.to_numpy()[GRAB_SLOT] == -1.0  # the engine's grab slot is empty
     for _ in range(40):
         sim.step_frame()
     assert sim.snapshot()["x"][0][1] < x1[1] - 0.1  # it falls again
