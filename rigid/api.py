@@ -6,6 +6,7 @@
     sim = rigid.Simulator(scene)                        # the repository's solved TODO units
     rows = sim.advance(120)                             # 121 rows: row 0 now, then a row per frame
     rigid.export(sim, rows, "drop.npz", "drop.glb")     # the NPZ, glTF and USD exporters
+    rigid.show(sim, frames=300)                         # in Jupyter: the run as an inline video
 
 Shapes are per body: ``rows["x"]`` (frames + 1, B, 3); the NPZ of a lone body keeps the
 contract's (F, 3). Kernels compile once per process: a second Simulator costs milliseconds.
@@ -64,5 +65,25 @@ def export(sim: Simulator, rows: dict, *paths) -> None:
     write_exports(list(paths), trajectory, sim)
 
 
-__all__ = ["init", "scene", "load_scene", "Simulator", "export", "load_units", "default_units", "SimConfig",
-           "ASSETS"]
+def show(sim: Simulator, frames: int = 300, resolution=(640, 360), camera=None, format: str = "mp4",
+         keep_frames: bool = False):
+    """Run ``frames`` frames and return them as a video that Jupyter shows inline (HTML5 <video>,
+    or an animated GIF with ``format="gif"``), drawn by the project's software renderer: no
+    display, no Vulkan. ``.rows`` holds the trajectory (for plots), ``.frames`` the pictures
+    (``keep_frames``), ``.save(path)`` writes the file. ``camera``: the [camera] table's keys
+    (position, look_at, fov, follow), e.g. ``dict(follow="centre")``; None takes the scene's
+    [camera] table, else frames the scene."""
+    from .view.notebook import show as _show
+
+    return _show(sim, frames, resolution, camera, format, keep_frames)
+
+
+def frames(sim: Simulator, frames: int = 60, resolution=(640, 360), camera=None) -> np.ndarray:
+    """Run ``frames`` frames and return the drawn pictures, (frames + 1, H, W, 3) uint8 numpy."""
+    from .view.notebook import frames as _frames
+
+    return _frames(sim, frames, resolution, camera)
+
+
+__all__ = ["init", "scene", "load_scene", "Simulator", "export", "show", "frames", "load_units", "default_units",
+           "SimConfig", "ASSETS"]

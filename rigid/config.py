@@ -57,6 +57,7 @@ class SimConfig:
     arch: str = "cpu"
     seed: int = 0
     resolution: tuple = (1280, 720)
+    camera: dict | None = None  # a scene's [camera] table (position, look_at, fov, follow): rigid/view/camera.py
 
     @property
     def num_body_entries(self) -> int:
@@ -180,6 +181,9 @@ def load_scene(path: str | Path) -> dict:
         close = difflib.get_close_matches(unknown[0], SCENE_KEYS, n=1)
         hint = f"did you mean {close[0]!r}?" if close else "known keys: " + ", ".join(sorted(SCENE_KEYS))
         raise UserError(f"scene file {path}: unknown key {unknown[0]!r}; {hint}")
+    camera = data.pop("camera", None)  # checked by rigid/view/camera.py (its keys are the view's)
+    if camera is not None and not isinstance(camera, dict):
+        raise UserError(f"scene file {path}: 'camera' must be a [camera] table (position, look_at, fov, follow)")
     tables = data.pop("body", [])
     if not isinstance(tables, list) or not all(isinstance(b, dict) for b in tables):
         raise UserError(f"scene file {path}: 'body' must be [[body]] tables, one per body")
@@ -195,6 +199,8 @@ def load_scene(path: str | Path) -> dict:
         bodies.append(_check_table(path, table, f"[[body]] {i + 1}: "))
     if bodies:
         data["bodies"] = tuple(bodies)
+    if camera is not None:
+        data["camera"] = camera
     return data
 
 

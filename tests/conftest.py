@@ -38,8 +38,8 @@ SOLUTION = ROOT / "rigid_body_dynamic.py"
 GROUPS = {
     **dict.fromkeys(("test_physics_accuracy", "test_physics_energy", "test_physics_inertia",
                      "test_physics_momentum", "test_physics_rotation"), "physics_fp64"),
-    **dict.fromkeys(("test_scenes", "test_many_bodies", "test_export_animation"), "scenes"),
-    **dict.fromkeys(("test_core", "test_impulse", "test_panel"), "sphere"),
+    **dict.fromkeys(("test_scenes", "test_many_bodies", "test_export_animation", "test_camera"), "scenes"),
+    **dict.fromkeys(("test_core", "test_impulse", "test_panel", "test_window_grab", "test_window_shadow"), "sphere"),
 }
 # Groups by measured CPU time, longest first: xdist hands them out in collection order, each
 # worker holding about two tests ahead, so the long ones start first and both workers end on

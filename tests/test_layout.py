@@ -26,7 +26,7 @@ ALLOWED = {
     "bench": BASE | {"bodies", "engine", "run", "view", "science", "grading"},
     "report": BASE | {"bodies", "engine", "run", "view", "science", "bench"},
     "cli": BASE | {"bodies", "engine", "run", "view"},
-    "api": BASE | {"bodies", "engine", "run"},  # the Python API: build, step, read, export
+    "api": BASE | {"bodies", "engine", "run", "view"},  # the Python API: build, step, read, export, show (view, lazily)
     "__main__": {"cli"},
     "__init__": {"api"},  # loaded on first use of rigid.Simulator etc. (PEP 562)
 }

@@ -4,6 +4,7 @@
   model.py      static data (Model); state.py: per-step State and runtime Params (+ the box's planes)
   blocks.py     particles in compact blocks (the unit of work and of summation)
   stages.py     the stages of a substep; contact.py: the one contact law; grid.py, scan.py: neighbours
+  grab.py       the mouse's spring on one particle (runtime values in WorldArgs.values)
   schemes.py    the updates from (F, τ): explicit Euler (TODO 5-7), symplectic Euler, RK4
   kernels.py    the kernels, cached per (TODO units, scheme); schedule.py: serial or parallel
   rows.py       a row of state per frame, for the host; simulator.py: the facade

@@ -18,6 +18,7 @@ import taichi as ti
 from ..bodies.mesh import BodyGeometry
 from ..bodies.placement import BodySpec, check_inside_box, scene_bodies
 from .arrays import ScratchArgs, device_array, host_float, zeros
+from .grab import default_spring, holding, released
 from .grid import GridShape
 from .kernels import engine_kernels
 from .launch import PreparedLaunch
@@ -107,6 +108,7 @@ class Simulator:
         """Back to the initial state of the bodies; the model is kept (no mesh reload)."""
         self.time = 0.0
         self.frame = 0
+        self.release()
         b = self.bodies
         self.kernels.init_bodies(self.model.args, self.state.args,
                                  *(np.array([getattr(body, key) for body in b], np.float64)
@@ -214,6 +216,26 @@ class Simulator:
             raise IndexError(f"particle {particle} out of range 0..{self.model.num_particles - 1}")
         slot = int(self.model.slot_of[particle])
         self.kernels.apply_impulse(self.model.args, self.state.args, slot, [float(c) for c in impulse])
+
+    def grab(self, particle: int, target, stiffness: float | None = None, damping: float | None = None):
+        """Hold particle ``particle`` (mesh files' order) on a damped spring to ``target`` (world,
+        m) from the next substep on: f = k (target − p) − c v_p, a particle force through TODO 3
+        and 4 (grab.py). Default k, c: a 2 Hz, critically damped spring on the body's mass. Call
+        again to move the target; ``release()`` lets go (a reset too)."""
+        if not 0 <= particle < self.model.num_particles:
+            raise IndexError(f"particle {particle} out of range 0..{self.model.num_particles - 1}")
+        body = int(np.searchsorted(np.cumsum(self.model.body_count_np), particle, side="right"))
+        k, c = default_spring(float(self.model.body_mass_np[body]))
+        k, c = k if stiffness is None else float(stiffness), c if damping is None else float(damping)
+        self.params.grab_values = holding(int(self.model.slot_of[particle]), target, k, c)
+        self.params.upload()
+        self.grabbed = int(particle)
+
+    def release(self):
+        """Let go of the grabbed particle (nothing if none is held)."""
+        self.params.grab_values = released()
+        self.params.upload()
+        self.grabbed = None
 
     # -- reading ----------------------------------------------------------------------------
     def snapshot(self) -> dict:

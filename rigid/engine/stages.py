@@ -18,6 +18,7 @@ import taichi as ti
 
 from . import grid
 from .contact import pair_force, plane_force
+from .grab import grab_share
 from .matvec import matvec
 from .state import DAMPING, FRICTION, GX, NUM_PLANES, STIFFNESS
 
@@ -206,8 +207,9 @@ def _block_share(u: ti.template(), model: ti.template(), state: ti.template(), w
         F, tau = _block_loop(u, model, world, scratch, start, end, b, x, R, v, omega, plane0, plane1, plane2, pairs, NEAR_SLOTS)
     else:
         F, tau = _block_loop(u, model, world, scratch, start, end, b, x, R, v, omega, plane0, plane1, plane2, pairs, -1)
-    scratch.partial_F[k] = F
-    scratch.partial_tau[k] = tau
+    F_grab, tau_grab = grab_share(u, model, world, start, end, x, R, v, omega)  # the mouse's spring, if held here
+    scratch.partial_F[k] = F + F_grab
+    scratch.partial_tau[k] = tau + tau_grab
 
 
 @ti.func

@@ -21,10 +21,11 @@ from __future__ import annotations
 import numpy as np
 
 from .arrays import StateArgs, WorldArgs, host_float, zeros
+from .grab import GRAB_FIRST, GRAB_VALUES, released
 
-# Slots of WorldArgs.values.
+# Slots of WorldArgs.values (then the mouse's grab, grab.py, from GRAB_FIRST on).
 DT, STIFFNESS, DAMPING, FRICTION, GX, GY, GZ, NUM_PLANES = range(8)
-NUM_VALUES = 8
+NUM_VALUES = GRAB_FIRST + GRAB_VALUES
 MAX_PLANES = 16
 
 
@@ -48,6 +49,7 @@ class Params:
         self.planes = zeros(MAX_PLANES, "v4")
         self.args = WorldArgs()(values=self.values, planes=self.planes)
         self._loading = True
+        self.grab_values = released()  # the mouse's spring (grab.py): kept across loads and uploads
         self.load(config)
 
     def load(self, config) -> None:
@@ -83,6 +85,7 @@ class Params:
                                                       self.velocity_damping_stiffness, self.friction_stiffness)
         values[GX:GZ + 1] = self.gravity
         values[NUM_PLANES] = len(planes)
+        values[GRAB_FIRST:GRAB_FIRST + GRAB_VALUES] = self.grab_values
         self.values.from_numpy(values.astype(host))
         padded = np.zeros((MAX_PLANES, 4))
         padded[:len(planes)] = planes

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from .diagnostics import Trajectory, first_blow_up, stability_hint
 from .escape import first_escape
 from .exports import write_exports
-from .progress import TimeLeft
+from .progress import FrameBar, TimeLeft
 
 
 def energy_bound(mass: float, gravity, kinetic0: float) -> float:
@@ -67,6 +67,7 @@ def run_frames(sim, frames: int | None, export_path=None, on_frame=None) -> RunR
     last = _row(start, 0)
     chunk = _ChunkSize(sim.rows.capacity if on_frame is None else 1)
     eta = TimeLeft(frames) if on_frame is None and frames is not None else None
+    bar = FrameBar(frames, "simulating") if eta is not None else None  # after the first chunk (compiling)
     try:
         with _sigint_between_chunks(on_frame is None) as interrupted:
             if on_frame is not None and on_frame(sim, 0):
@@ -80,6 +81,7 @@ def run_frames(sim, frames: int | None, export_path=None, on_frame=None) -> RunR
                 chunk.took(time.perf_counter() - began)
                 if eta is not None:  # one line on stderr once the run looks long: its time left
                     eta.chunk_done(result.frames + size, size, time.perf_counter() - began)
+                    bar.update(result.frames + size)
                 bad = first_blow_up(block, e0, bound)
                 escape = first_escape(block, cfg, last)  # a body through a wall: its energy does not show it
                 if escape is not None and (bad is None or escape[0] <= bad[0]):
@@ -104,6 +106,9 @@ def run_frames(sim, frames: int | None, export_path=None, on_frame=None) -> RunR
         pass
     except KeyboardInterrupt:
         result = RunResult(result.frames, "interrupted", f"interrupted after {result.frames} frames")
+    finally:
+        if bar is not None:
+            bar.close()
     if export_path:  # one path or a list (--export given several times); the suffix picks the format
         write_exports(export_path, trajectory, sim)
     result.last_row = last

@@ -1,4 +1,6 @@
-"""Drawing: a software renderer for the scene, the GGUI window and its panel, recording and video encoders.
+"""Drawing: a software renderer for the scene (with contact shadows), the camera (framing, --camera,
+follow), the GGUI window, its panel and mouse grab, recording, notebook videos (rigid.show) and
+video encoders.
 
 May import the base modules, ``bodies``, ``engine`` and ``run``; never ``grading``, ``report``,
 ``science`` or ``bench``. The engine never imports this package.

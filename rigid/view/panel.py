@@ -12,7 +12,10 @@ PANEL_TITLE = "Rigid body"  # imgui's layout file names it; rigid/render.py remo
 
 KICK_SPEED = 2.5  # m/s: the random kick changes the body's speed by about this much
 
-HELP = "space pause  n step  r reset  k kick  esc quit\nright-drag orbit  middle-drag/arrows zoom"
+HELP = ("space pause  n step  r reset  k kick  esc quit\n"
+        "left-drag a body: grab it (release lets go)\nright-drag orbit  middle-drag/arrows zoom")
+PANEL_PLACE = (0.725, 0.02, 0.27, 0.6)  # x, y from the top, width, height: fractions of the window
+READOUT_SECONDS = 0.25  # the energies and momenta are read (a kernel: the contact energy) 4 times a second
 
 
 class ControlPanel:
@@ -22,6 +25,7 @@ class ControlPanel:
         self.paused = False
         self.wireframe = False
         self.message = ""  # e.g. the last blow-up, shown in red
+        self._snap, self._snap_at, self._snap_frame = None, -1e9, -1
 
     def kick(self) -> None:
         """An impulse of random direction (biased upwards) at a random particle: it moves and spins."""
@@ -31,14 +35,28 @@ class ControlPanel:
         direction /= np.linalg.norm(direction)
         sim.apply_impulse(particle, sim.model.mass * KICK_SPEED * direction)
 
-    def draw(self, gui, fps: float) -> dict:
-        """Declare the panel for this frame; return the buttons pressed, e.g. {"reset": True}."""
+    def snapshot(self) -> dict:
+        """The state for the readouts, read again after READOUT_SECONDS or a step back (reset)."""
+        import time
+
+        now, frame = time.perf_counter(), self.sim.frame
+        if self._snap is None or now - self._snap_at > READOUT_SECONDS or frame < self._snap_frame \
+                or (self.paused and frame != self._snap_frame):
+            self._snap, self._snap_at, self._snap_frame = self.sim.snapshot(), now, frame
+        return self._snap
+
+    def draw(self, gui, fps: float, timing: dict | None = None) -> dict:
+        """Declare the panel for this frame; return the buttons pressed, e.g. {"reset": True}.
+        ``timing``: ms a frame spent drawing and simulating (the window's measure), shown with
+        how fast the simulation runs against real time when it cannot keep up."""
         sim, prm = self.sim, self.sim.params
-        snap = sim.snapshot()
+        snap = self.snapshot()
         kinetic, potential = snap["kinetic_energy"], snap["potential_energy"]
         pressed = {}
-        with gui.sub_window(PANEL_TITLE, 0.725, 0.02, 0.27, 0.52) as w:
+        with gui.sub_window(PANEL_TITLE, *PANEL_PLACE) as w:
             w.text(f"t = {sim.time:.3f} s   frame {sim.frame}   {fps:.0f} fps")
+            if timing:
+                w.text(speed_line(fps, sim.substeps * float(prm.dt), timing, self.paused))
             w.text(f"kinetic {kinetic:.4g} J   potential {potential:.4g} J")
             w.text(f"total E {kinetic + potential:.4g} J")
             w.text(f"|P| {np.linalg.norm(snap['P'].sum(axis=0)):.4g} kg m/s   "
@@ -72,6 +90,17 @@ class ControlPanel:
             changed = True
         pressed["params_changed"] = changed
         return pressed
+
+
+def speed_line(fps: float, frame_seconds: float, timing: dict, paused: bool) -> str:
+    """E.g. "simulation 0.4x real time" and, on a second line, "simulating 38 ms, drawing 9 ms a
+    frame" (ASCII: imgui's default font has no multiplication sign)."""
+    split = f"simulating {timing['sim_ms']:.0f} ms, drawing {timing['draw_ms']:.0f} ms a frame"
+    if paused:
+        return "paused\n" + split
+    factor = fps * frame_seconds
+    pace = "real time" if factor >= 0.95 else f"simulation {factor:.2g}x real time"
+    return f"{pace}\n{split}"
 
 
 def _differs(new: float, old: float) -> bool:

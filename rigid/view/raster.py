@@ -25,19 +25,24 @@ import numpy as np
 import taichi as ti
 
 from .raster_data import Triangles, VertexNormals
+from .raster_edges import column_span as _column_span, edge as _edge
 
 NEAR = 0.05  # m: primitives with a vertex nearer the eye than this are skipped
 LINE_BIAS = 1e-3  # lines are drawn this fraction of their depth nearer, to win over the face under them
 EMPTY = 1 << 62  # a pixel's key before any triangle covers it
-CULLED, FLAT, LIT, LIT_TWO_SIDED = 0, 1, 2, 3  # triangle kinds
+# Triangle kinds. RECEIVER: lit two-sided and shadowed; FRONT: lit, skipped where it faces away.
+CULLED, FLAT, LIT, LIT_TWO_SIDED, RECEIVER, FRONT = 0, 1, 2, 3, 4, 5
 WIRE_COLOR = (0.15, 0.15, 0.15)
 vec3 = ti.types.vector(3, ti.f32)
 
 
 @ti.data_oriented
 class Rasterizer:
-    def __init__(self, width: int, height: int, capacity: int = 4096):
+    def __init__(self, width: int, height: int, capacity: int = 4096, window: bool = False):
+        """``window``: the picture goes to GGUI's canvas (``image``) only, not to ``rgba``
+        (``read_rgba`` then converts ``image``: for a screenshot); else to ``rgba`` only."""
         self.width, self.height = int(width), int(height)
+        self.window = bool(window)
         self.image = ti.Vector.field(4, ti.u8, shape=(self.width, self.height))  # for canvas.set_image
         self.rgba = ti.field(ti.u32, shape=(self.height, self.width))  # the same, top row first, for files
         self.key = ti.field(ti.i64, shape=(self.width, self.height))
@@ -64,7 +69,7 @@ class Rasterizer:
         self.count = 0
 
     def mesh(self, vertices, indices=None, normals=None, color=(0.5, 0.5, 0.5), per_vertex_color=None,
-             two_sided=False, show_wireframe=False) -> None:
+             two_sided=False, show_wireframe=False, receives_shadow=False, cull_back=False) -> None:
         """Triangles ``indices`` (3 per triangle; None: vertices 3t, 3t+1, 3t+2) of a vec3 field.
 
         The arguments mean what they mean for GGUI's ``scene.mesh``. Normals: the ``normals``
@@ -76,7 +81,8 @@ class Rasterizer:
             normals = self._normals.of(vertices, indices)
         base = self._reserve(n)
         self._emit_mesh(self.tris, base, n, vertices, _or0(indices), _or0(normals), _or0(per_vertex_color),
-                        vec3(*color), LIT_TWO_SIDED if two_sided else LIT)
+                        vec3(*color), RECEIVER if receives_shadow else FRONT if cull_back
+                        else LIT_TWO_SIDED if two_sided else LIT)
         if show_wireframe:
             base = self._reserve(6 * n)
             self._emit_edges(self.tris, base, n, vertices, _or0(indices), self._line_half_width(1.0), vec3(WIRE_COLOR))
@@ -93,13 +99,16 @@ class Rasterizer:
         base = self._reserve(8 * n)
         self._emit_particles(self.tris, base, n, centers, float(radius), vec3(*color), _or0(per_vertex_color))
 
-    def finish(self) -> None:
-        """Rasterise the queued triangles into ``image`` (and clear the depth keys for the next frame)."""
+    def finish(self, shadows=None) -> None:
+        """Rasterise the queued triangles into ``image`` (and clear the depth keys for the next frame);
+        ``shadows`` (shadow.ContactShadows) darkens the triangles drawn with ``receives_shadow``."""
         self._raster(self.tris, self.count)
-        self._resolve(self.tris)
+        self._resolve(self.tris, _or0(shadows), self.window)
 
     def read_rgba(self) -> np.ndarray:
         """The picture as (H, W, 4) uint8 RGBA, top row first, contiguous (a new array)."""
+        if self.window:
+            return np.ascontiguousarray(self.image.to_numpy().transpose(1, 0, 2)[::-1])
         return self.rgba.to_numpy().view(np.uint8).reshape(self.height, self.width, 4)
 
     # ---- storage ----------------------------------------------------------------------------
@@ -221,14 +230,15 @@ class Rasterizer:
             if tris.kind[t] != CULLED:
                 a, b, c = tris.vs[3 * t], tris.vs[3 * t + 1], tris.vs[3 * t + 2]
                 area = _edge(a, b, c[0], c[1])
-                if ti.abs(area) > 1e-9:
+                if ti.abs(area) > 1e-9 and (area > 0 or tris.kind[t] != FRONT):  # FRONT: counter-clockwise only
                     sign = 1.0 if area > 0 else -1.0
                     x0 = ti.max(0, ti.cast(ti.floor(ti.min(a[0], b[0], c[0])), ti.i32))
                     x1 = ti.min(self.width - 1, ti.cast(ti.ceil(ti.max(a[0], b[0], c[0])), ti.i32))
                     y0 = ti.max(0, ti.cast(ti.floor(ti.min(a[1], b[1], c[1])), ti.i32))
                     y1 = ti.min(self.height - 1, ti.cast(ti.ceil(ti.max(a[1], b[1], c[1])), ti.i32))
                     for x in range(x0, x1 + 1):
-                        for y in range(y0, y1 + 1):
+                        ys, ye = _column_span(a, b, c, sign, x + 0.5, y0, y1)
+                        for y in range(ys, ye + 1):
                             px, py = x + 0.5, y + 0.5
                             w0 = sign * _edge(b, c, px, py)
                             w1 = sign * _edge(c, a, px, py)
@@ -239,7 +249,7 @@ class Rasterizer:
                                 ti.atomic_min(self.key[x, y], (bits << 32) | ti.cast(t, ti.i64))
 
     @ti.kernel
-    def _resolve(self, tris: ti.template()):
+    def _resolve(self, tris: ti.template(), shadows: ti.template(), window: ti.template()):
         eye, light, light_color, ambient, background = self.cam[0], self.cam[4], self.cam[5], self.cam[6], self.cam[7]
         for x, y in self.key:
             key = self.key[x, y]
@@ -255,22 +265,21 @@ class Rasterizer:
                     normal = (w[0] * tris.vn[3 * t] + w[1] * tris.vn[3 * t + 1] + w[2] * tris.vn[3 * t + 2])
                     p = w[0] * tris.vp[3 * t] + w[1] * tris.vp[3 * t + 1] + w[2] * tris.vp[3 * t + 2]
                     normal = normal.normalized(1e-20)
-                    if tris.kind[t] == LIT_TWO_SIDED and normal.dot(eye - p) < 0:
+                    if (tris.kind[t] == LIT_TWO_SIDED or tris.kind[t] == RECEIVER) and normal.dot(eye - p) < 0:
                         normal = -normal
                     diffuse = ti.max(0.0, normal.dot((light - p).normalized(1e-20)))
                     rgb = rgb * (ambient + light_color * diffuse)
+                    if ti.static(shadows != 0):
+                        if tris.kind[t] == RECEIVER:
+                            rgb = rgb * shadows.at(p)
             byte = ti.cast(ti.min(ti.max(rgb, 0.0), 1.0) * 255.0 + 0.5, ti.u32)
-            self.image[x, y] = ti.Vector([byte[0], byte[1], byte[2], 255], ti.u8)
-            self.rgba[self.height - 1 - y, x] = byte[0] | (byte[1] << 8) | (byte[2] << 16) | ti.u32(0xFF000000)
+            if ti.static(window):  # one picture written, the one that is read
+                self.image[x, y] = ti.Vector([byte[0], byte[1], byte[2], 255], ti.u8)
+            else:
+                self.rgba[self.height - 1 - y, x] = byte[0] | (byte[1] << 8) | (byte[2] << 16) | ti.u32(0xFF000000)
             self.key[x, y] = ti.i64(EMPTY)
 
 
 def _or0(field):
     """Taichi templates take no None: 0 stands for an absent field (tested with ti.static)."""
     return 0 if field is None else field
-
-
-@ti.func
-def _edge(a, b, px, py):
-    """Twice the signed area of (a, b, p) in screen space."""
-    return (b[0] - a[0]) * (py - a[1]) - (b[1] - a[1]) * (px - a[0])

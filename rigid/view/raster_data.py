@@ -83,3 +83,24 @@ def _smooth_normals(verts: ti.template(), idx: ti.template(), offsets: ti.templa
 def _copy_prefix(dst: ti.template(), src: ti.template(), n: ti.i32):
     for i in range(n):
         dst[i] = src[i]
+
+
+def closed_and_outward(vertices: np.ndarray, faces: np.ndarray, face_body: np.ndarray) -> bool:
+    """Whether back faces may be skipped: every edge is met by exactly two triangles in opposite
+    directions (closed, consistently wound), and each body's signed volume is positive (its
+    triangles wind counter-clockwise seen from outside). Then no back face can be seen from
+    outside a body, and skipping them halves the triangles to rasterise."""
+    faces = np.asarray(faces, np.int64).reshape(-1, 3)
+    if not len(faces):
+        return False
+    directed = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
+    n = int(faces.max()) + 1
+    forward = directed[:, 0] * n + directed[:, 1]
+    backward = directed[:, 1] * n + directed[:, 0]
+    unique, counts = np.unique(forward, return_counts=True)
+    if (counts != 1).any() or not np.isin(backward, unique).all():
+        return False
+    v = np.asarray(vertices, np.float64)
+    a, b, c = v[faces[:, 0]], v[faces[:, 1]], v[faces[:, 2]]
+    volume = np.bincount(face_body, weights=(a * np.cross(b, c)).sum(axis=1) / 6.0)
+    return bool((volume[np.unique(face_body)] > 0).all())

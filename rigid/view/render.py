@@ -16,9 +16,11 @@ import numpy as np
 import taichi as ti
 
 from ..errors import UserError
-from .orbit import OrbitCamera
+from .camera import SceneCamera
 from .panel import PANEL_TITLE
 from .raster import Rasterizer
+from .raster_data import closed_and_outward
+from .shadow import ContactShadows
 from .vulkan import INSTALL_HINT, require_vulkan
 
 BACKGROUND = (1.0, 1.0, 1.0)
@@ -27,6 +29,7 @@ BOX_COLOR = (0.25, 0.3, 0.4)
 TILE_COLORS = ((0.86, 0.87, 0.9), (0.74, 0.76, 0.8))
 FLOOR_TILES = 8  # per side
 GRID_COLOR = (0.72, 0.74, 0.78)
+SPRING_COLOR = (0.85, 0.1, 0.1)
 GRID_HALF_WIDTH, GRID_STEP = 2.0, 0.25  # m: without walls, lines every 25 cm on the floor plane, 4 m across
 AMBIENT, LIGHT = (0.35, 0.35, 0.35), ((2.5, 4.0, 3.5), (0.75, 0.75, 0.75))
 
@@ -35,7 +38,8 @@ class SceneRenderer:
     """Draws one simulator's scene into a picture; shows it in a GGUI window unless ``offscreen``."""
 
     def __init__(self, sim, resolution=(1280, 720), offscreen=False, title="Rigid body",
-                 fps_limit=1000):
+                 fps_limit=1000, camera=None):
+        """``camera``: a camera.CameraSpec (a scene's [camera] table, --camera); None frames the scene."""
         size = tuple(int(r) for r in resolution)
         self.window = self.canvas = None
         if not offscreen:
@@ -48,21 +52,33 @@ class SceneRenderer:
                 raise UserError(f"GGUI could not start ({err}); {INSTALL_HINT}") from None
             self.canvas = self.window.get_canvas()
         self.sim = sim
-        self.raster = Rasterizer(*size)
-        self.orbit = OrbitCamera()
+        self.raster = Rasterizer(*size, window=not offscreen)
+        self.camera = SceneCamera(sim, camera, aspect=size[0] / size[1])
+        self.orbit = self.camera.orbit  # the mouse orbits it; follow moves its target
         self.wireframe = False
+        self.spring = None  # (from, to): the mouse's grab, drawn as a line (grab.py)
+        self._spring_line = ti.Vector.field(3, ti.f32, shape=2)
         self._build_box(float(sim.params.floor), float(sim.params.wall))
         m = sim.model
         self.surface = ti.Vector.field(3, ti.f32, shape=max(m.num_surface, 1))
         self.indices = ti.field(ti.i32, shape=max(3 * m.num_faces, 3))
         if m.num_faces:
             self.indices.from_numpy(m.faces_np.reshape(-1).astype(np.int32))
+        # Closed meshes wound outwards (the assets) skip their back faces: half the triangles.
+        self.cull_back = bool(m.num_faces) and closed_and_outward(
+            np.concatenate(m.surfaces_np), m.faces_np, m.surface_body_np[m.faces_np[:, 0]])
         self.particles = ti.Vector.field(3, ti.f32, shape=m.num_particles)
         self.vertex_colors = self.particle_colors = None
         if sim.many:  # each body its own colour (body_palette)
             palette = body_palette(m.num_bodies)
             self.vertex_colors = _vec_field(palette[m.surface_body_np]) if m.num_surface else None
             self.particle_colors = _vec_field(palette[sim.particle_bodies()])
+        # Under each body a soft shadow on the floor (shadow.py); none without walls (no floor drawn).
+        self.shadows = None
+        if sim.params.walls:
+            points = np.concatenate(m.surfaces_np) if m.num_faces else m.r0_np[m.slot_of]
+            counts = np.bincount(m.surface_body_np, minlength=m.num_bodies) if m.num_faces else m.body_count_np
+            self.shadows = ContactShadows(m.num_bodies, float(sim.params.floor), float(sim.params.wall), points, counts)
 
     def _build_box(self, floor: float, wall: float) -> None:
         """Floor tiles (two triangles each, own vertices so colours stay flat) and 12 box edges."""
@@ -95,23 +111,29 @@ class SceneRenderer:
     def draw(self) -> None:
         """Draw this frame's scene into the picture (and the window's canvas, if shown)."""
         sim, raster = self.sim, self.raster
+        self.camera.update()
         raster.begin(self.orbit.position(), self.orbit.target, fov_deg=self.orbit.fov, light=LIGHT,
                      ambient=AMBIENT, background=BACKGROUND)
         if sim.params.walls:
             raster.mesh(self.floor_vertices, normals=self.floor_normals, per_vertex_color=self.floor_colors,
-                        two_sided=True)
+                        two_sided=True, receives_shadow=self.shadows is not None)
             raster.lines(self.box_lines, width=2.0, color=BOX_COLOR)
         else:  # free flight: a grid on the floor plane to see motion against
             raster.lines(self.grid_lines, width=1.0, color=GRID_COLOR)
         if sim.model.num_faces:
             self.surface.from_numpy(np.asarray(sim.surface_positions(), np.float32))
-            raster.mesh(self.surface, self.indices, color=BODY_COLOR, two_sided=True,
+            raster.mesh(self.surface, self.indices, color=BODY_COLOR, two_sided=True, cull_back=self.cull_back,
                         show_wireframe=self.wireframe, per_vertex_color=self.vertex_colors)
         else:  # a point cloud: draw the particles
             self.particles.from_numpy(sim.particle_positions().astype(np.float32))
             raster.particles(self.particles, radius=0.015, color=BODY_COLOR,
                              per_vertex_color=self.particle_colors)
-        raster.finish()
+        if self.spring is not None:
+            self._spring_line.from_numpy(np.asarray(self.spring, np.float32))
+            raster.lines(self._spring_line, width=2.5, color=SPRING_COLOR)
+        if self.shadows is not None and sim.params.walls:
+            self.shadows.update(sim.state.x, sim.state.R)  # read on the device
+        raster.finish(self.shadows if sim.params.walls else None)
         if self.canvas is not None:
             self.canvas.set_image(raster.image)
 

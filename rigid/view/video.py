@@ -13,11 +13,10 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from tqdm import tqdm
-
 from ..run.atomic import atomic_output
+from ..run.progress import FrameBar
 from .encoders import BackgroundWriter, open_writer
-from .imaging import TextOverlay, save_png
+from .imaging import TextOverlay, overlay_text, save_png
 from .interrupt import ctrl_c_between_frames
 from ..run.runner import RunResult, run_frames
 
@@ -27,13 +26,14 @@ class _NothingWritten(Exception):
 
 
 def record(sim, path, frames: int, resolution, export_path=None, screenshot=None,
-           progress: bool = True) -> RunResult:
-    """Record ``frames`` frames of ``sim`` into ``path`` (.mp4 or .gif) at ``resolution`` (W, H)."""
+           progress: bool = True, camera=None) -> RunResult:
+    """Record ``frames`` frames of ``sim`` into ``path`` (.mp4 or .gif) at ``resolution`` (W, H),
+    seen by ``camera`` (a camera.CameraSpec; None frames the scene)."""
     from .render import SceneRenderer  # the renderer's fields and kernels: only when recording
 
     path = Path(path)
     size = (int(resolution[0]), int(resolution[1]))
-    renderer = SceneRenderer(sim, size, offscreen=True)
+    renderer = SceneRenderer(sim, size, offscreen=True, camera=camera)
     try:
         result, writer, last = _record_frames(sim, renderer, path, frames, size, export_path, progress)
     finally:
@@ -57,8 +57,8 @@ def _record_frames(sim, renderer, path: Path, frames: int, size, export_path, pr
     try:
         with atomic_output(path) as tmp:
             writer = BackgroundWriter(open_writer(tmp, size, suffix=path.suffix))
-            bar = tqdm(total=frames + 1, unit="frame", desc=f"recording {path.name}", disable=not progress,
-                       file=sys.stderr, mininterval=0.5, dynamic_ncols=True)
+            # Opened after frames 0 and 1 (drawing's and simulating's kernels compile in them).
+            bar = FrameBar(frames + 1, f"recording {path.name}", enabled=progress, warm_up=2)
             try:
                 with ctrl_c_between_frames() as stop_requested:
                     def on_frame(sim, i):
@@ -67,10 +67,10 @@ def _record_frames(sim, renderer, path: Path, frames: int, size, export_path, pr
                         frame = renderer.read_rgba()
                         snap = sim.snapshot()
                         energy = snap["kinetic_energy"] + snap["potential_energy"]
-                        overlay.draw(frame, f"t = {sim.time:6.3f} s    E = {energy:.4g} J")
+                        overlay.draw(frame, overlay_text(sim.time, energy, sim.num_bodies))
                         writer.write(frame)
                         last = frame
-                        bar.update(1)
+                        bar.update(i + 1)
                         if stop_requested():  # after drawing: the export holds this frame's row too
                             raise KeyboardInterrupt
 

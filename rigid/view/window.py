@@ -2,7 +2,8 @@
 
 Keys: space pause/resume, n one frame while paused, r reset, k random kick, esc quit
 (GGUI 1.7 reports letters, space, arrows and a few named keys only, so the
-single step is ``n``, not ``.``). Mouse: right-drag orbits, middle-drag zooms.
+single step is ``n``, not ``.``). Mouse: left-drag on a body grabs it (grab.py: a spring
+to the cursor; release lets go), right-drag orbits, middle-drag zooms.
 The frame loop is ``rigid.run.runner.run_frames``: pausing happens inside its
 ``on_frame`` (we keep drawing without stepping). After a blow-up the window
 stays open, paused, with the message in the panel; a reset starts a new run.
@@ -16,6 +17,7 @@ import time
 
 import taichi as ti
 
+from .grab import MouseGrab
 from .imaging import save_png
 from .interrupt import ctrl_c_between_frames, shield_x_server_from_ctrl_c
 from .panel import ControlPanel
@@ -23,7 +25,8 @@ from ..run.runner import RunResult, StopRun, run_frames
 from .vulkan import require_display
 
 
-def run_window(sim, frames: int | None = None, export_path=None, screenshot=None, resolution=None) -> RunResult:
+def run_window(sim, frames: int | None = None, export_path=None, screenshot=None, resolution=None,
+               camera=None) -> RunResult:
     """Show ``sim`` until the window closes (or for ``frames`` frames); return the last run's result.
 
     ``resolution`` (W, H): the window's size; None takes the simulator's ``config.resolution``.
@@ -33,8 +36,10 @@ def run_window(sim, frames: int | None = None, export_path=None, screenshot=None
 
     shield_x_server_from_ctrl_c()  # under xvfb-run in a terminal, Ctrl-C would stop the X server too
     size = tuple(resolution or sim.config.resolution)
-    renderer = SceneRenderer(sim, size, offscreen=False, title="Rigid body (HKU COMP3360 A3)", fps_limit=60)
-    renderer.orbit.zoom(1.15)  # a little further out than the video: the panel covers the right
+    renderer = SceneRenderer(sim, size, offscreen=False, title="Rigid body (HKU COMP3360 A3)", fps_limit=60,
+                             camera=camera)
+    if camera is None or camera.position is None:
+        renderer.orbit.zoom(1.15)  # a little further out than the video: the panel covers the right
     try:
         with ctrl_c_between_frames() as interrupted:
             loop = _WindowLoop(sim, renderer, screenshot=bool(screenshot), frames=frames, interrupted=interrupted)
@@ -76,17 +81,23 @@ class _WindowLoop:
         self.steps = 0  # frames stepped over all runs (for --frames)
         self.fps = 0.0
         self._last_time = time.perf_counter()
+        self.grab = MouseGrab(sim, renderer.orbit, (renderer.raster.width, renderer.raster.height))
+        self.timing = {"sim_ms": 0.0, "draw_ms": 0.0}  # smoothed, per frame (rigid/bench/window.py)
+        self._left = None  # when on_frame last returned: the time to the next call is simulating
 
     def on_frame(self, sim, i) -> bool:
         """Draw frame i; while paused keep drawing and listening. True: the state was changed by hand."""
         if i > 0:
             self.steps += 1
+        began = time.perf_counter()
+        if self._left is not None:
+            _smooth(self.timing, "sim_ms", 1e3 * (began - self._left))
         changed = False
         while True:
             actions, pressed, reset = self._poll()
             if self.closed:
                 raise StopRun
-            changed |= reset
+            changed |= reset or pressed.get("grabbing", False)  # a held body: energy comes in by hand
             if pressed.get("kick") or actions.get("kick"):
                 self.panel.kick()
                 changed = True
@@ -94,6 +105,8 @@ class _WindowLoop:
             if actions.get("pause"):
                 self.panel.paused = not self.panel.paused
             if not self.panel.paused or pressed.get("step") or actions.get("step"):
+                self._left = time.perf_counter()
+                _smooth(self.timing, "draw_ms", 1e3 * (self._left - began))
                 return changed
 
     def wait_for_reset(self, message: str) -> bool:
@@ -148,12 +161,20 @@ class _WindowLoop:
         dt, self._last_time = now - self._last_time, now
         self.fps = 0.9 * self.fps + 0.1 / max(dt, 1e-6) if self.fps else 1.0 / max(dt, 1e-6)
         self.renderer.orbit.track(self.window)
+        grabbing = self.grab.track(self.window.get_cursor_pos(), self.window.is_pressed(ti.ui.LMB))
+        self.renderer.spring = self.grab.spring()
         self.renderer.wireframe = self.panel.wireframe
         self.renderer.draw()
-        pressed = self.panel.draw(self.window.get_gui(), self.fps)
+        pressed = self.panel.draw(self.window.get_gui(), self.fps, self.timing)
+        pressed["grabbing"] = grabbing
         # A read-back costs ~10 ms at 1280x720 in software: only for the frame a screenshot keeps
         # (every frame when the window runs until closed: any frame may be the last).
         if self.screenshot and (self.frames is None or self.steps >= self.frames):
             self.last_frame = self.renderer.read_rgba()
         self.window.show()
         return pressed
+
+
+def _smooth(timing: dict, key: str, ms: float) -> None:
+    """An exponential average over ~10 frames (the first frame's value taken as it is)."""
+    timing[key] = ms if not timing[key] else 0.9 * timing[key] + 0.1 * ms
