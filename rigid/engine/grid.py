@@ -1,7 +1,8 @@
-"""A uniform grid over the particles, rebuilt every substep by a counting sort (bodies in contact).
+"""A uniform grid over the particles, built by a counting sort (bodies in contact) whenever the
+neighbour lists (neighbours.py) are rebuilt.
 
-Cells are cubes of side h = the largest particle diameter, so two particles that touch lie
-in the same or adjacent cells. The grid has D³ cells (D a power of two, D³ about twice the
+Cells are cubes of side h = the largest particle diameter + the lists' skin, so two particles
+within reach + skin lie in the same or adjacent cells. The grid has D³ cells (D a power of two, D³ about twice the
 particle count) and wraps: a particle at p lies in cell ⌊p/h⌋ mod D on each axis, so the world
 needs no bounds and far-apart particles sharing a wrapped cell only cost a distance test.
 Every particle goes in its cell: no cap per cell (Harada's GPU Gems 3 grid keeps 4 a cell and
@@ -102,20 +103,25 @@ def gather_sorted(s: ti.template(), model: ti.template(), state: ti.template(), 
     s.sorted_body[k] = model.particle_body[i]
 
 
+# A build is clear and count (``count_particle`` for every particle), then finish_*. The
+# neighbour lists (neighbours.py) rebuild the grid only when they need it: every loop of a
+# build runs over ``size * gate`` items (gate 0 or 1, read from the device), so that in a
+# parallel kernel it stays a top-level (parallel) loop and costs nothing when gate is 0.
+
 @ti.func
-def clear_counts(s: ti.template()):
-    for c in range(s.grid_dims[1]):
+def clear_and_count(s: ti.template(), state: ti.template(), gate):
+    for c in range(s.grid_dims[1] * gate):
         s.cell_count[c] = 0
+    for i in range(state.particle_x.shape[0] * gate):
+        count_particle(s, state, i)
 
-
-# A build is clear_counts, then count_particle for every particle (the engine fuses it into
-# the loop that places the particles: one pass, one parallel task less), then finish_*.
 
 @ti.func
-def finish_serial(s: ti.template(), model: ti.template(), state: ti.template()):
+def finish_serial(s: ti.template(), model: ti.template(), state: ti.template(), gate):
     """The rest of the build on one thread: scattering in slot order leaves every cell sorted."""
-    C, N = s.grid_dims[1], state.particle_x.shape[0]
-    scan_serial(s.cell_count, s.cell_start, C)
+    C, N = s.grid_dims[1] * gate, state.particle_x.shape[0] * gate
+    if gate:
+        scan_serial(s.cell_count, s.cell_start, C)
     for c in range(C):
         s.cell_cursor[c] = s.cell_start[c]
     for i in range(N):
@@ -125,16 +131,15 @@ def finish_serial(s: ti.template(), model: ti.template(), state: ti.template()):
 
 
 @ti.func
-def finish_parallel(s: ti.template(), model: ti.template(), state: ti.template()):
+def finish_parallel(s: ti.template(), model: ti.template(), state: ti.template(), gate):
     """The rest of the build as top-level loops of a kernel (each runs in parallel); each cell is
     then sorted by slot and its copies gathered."""
-    C, N = s.grid_dims[1], state.particle_x.shape[0]
-    scan_parallel(s.cell_count, s.cell_start, s.chunk_total, C, s.grid_dims[2])
-    for c in range(C):
+    scan_parallel(s.cell_count, s.cell_start, s.chunk_total, s.grid_dims[1] * gate, s.grid_dims[2] * gate)
+    for c in range(s.grid_dims[1] * gate):
         s.cell_cursor[c] = s.cell_start[c]
-    for i in range(N):
+    for i in range(state.particle_x.shape[0] * gate):
         scatter_particle(s, i)
-    for c in range(C):
+    for c in range(s.grid_dims[1] * gate):
         sort_cell(s, c)
         for k in range(s.cell_start[c], s.cell_start[c + 1]):
             gather_sorted(s, model, state, k)

@@ -14,7 +14,7 @@ Two schedules run the same stages (stages.py), chosen by schedule.py:
 
 import taichi as ti
 
-from . import grid, schemes, stages
+from . import grid, neighbours, schemes, stages
 from .arrays import ModelArgs, RowArgs, ScratchArgs, StateArgs, SurfaceArgs, WorldArgs
 from .matvec import matvec
 from .state import DT
@@ -45,13 +45,18 @@ class EngineKernels:
 
         @ti.func
         def place_all(model: ti.template(), state: ti.template(), scratch: ti.template(), parallel: ti.template()):
-            """Stages 1-2: every particle placed, and the grid built when bodies collide."""
+            """Stages 1-2: every particle placed; when bodies collide, the neighbour lists rebuilt
+            (grid and lists) if a particle has moved half the skin since their last build."""
             if ti.static(pairs):
-                stages.place_particles_in_grid(model, state, scratch)
+                stages.place_particles_noting_motion(model, state, scratch)
+                grid.clear_and_count(scratch, state, neighbours.rebuild_gate(scratch))
                 if ti.static(parallel):
-                    grid.finish_parallel(scratch, model, state)
+                    grid.finish_parallel(scratch, model, state, neighbours.rebuild_gate(scratch))
                 else:
-                    grid.finish_serial(scratch, model, state)
+                    grid.finish_serial(scratch, model, state, neighbours.rebuild_gate(scratch))
+                for i in range(state.particle_x.shape[0] * neighbours.rebuild_gate(scratch)):
+                    neighbours.build_list(model, state, scratch, i)
+                neighbours.clear_flag(scratch)
             else:
                 stages.place_particles(model, state)
 

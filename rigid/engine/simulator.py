@@ -17,6 +17,7 @@ import taichi as ti
 
 from ..bodies.mesh import BodyGeometry
 from ..bodies.placement import BodySpec, check_inside_box, scene_bodies
+from . import neighbours
 from .arrays import ScratchArgs, device_array, host_float, zeros
 from .grid import GridShape
 from .kernels import engine_kernels
@@ -69,7 +70,10 @@ class Simulator:
     def _scratch(self, B: int, N: int, pairs: bool):
         """The arrays a substep rewrites (forces, partial sums, the grid, RK4)."""
         shape = GridShape.for_particles(N, pairs)
-        cell = 2.0 * max(float(self.model.radius_np.max()), 1e-6)
+        diameter = 2.0 * max(float(self.model.radius_np.max()), 1e-6)
+        skin = neighbours.SKIN_FRACTION * diameter
+        cell = diameter + skin
+        lists = N * neighbours.NEIGHBOURS_PER_PARTICLE if pairs else 1
         arrays = dict(particle_f=zeros(N, "v3"), particle_couple=zeros(N, "v3"), block_energy=zeros(self.model.num_blocks),
                       partial_F=zeros(self.model.num_blocks, "v3"), partial_tau=zeros(self.model.num_blocks, "v3"),
                       cell_count=zeros(shape.num_cells, "i"), cell_start=zeros(shape.num_cells + 1, "i"),
@@ -78,6 +82,9 @@ class Simulator:
                       sorted_body=zeros(N if pairs else 1, "i"), chunk_total=zeros(shape.num_chunks + 1, "i"),
                       grid_dims=device_array(np.array([shape.dim, shape.num_cells, shape.num_chunks]), dtype=ti.i32),
                       grid_inv_cell=device_array(np.array([1.0 / cell])),
+                      nbr_count=zeros(N if pairs else 1, "i"), nbr_list=zeros(lists, "i"),
+                      build_x=zeros(N if pairs else 1, "v3"), nbr_flags=zeros(1, "i"),
+                      nbr_params=device_array(np.array([skin, (0.5 * skin) ** 2])),
                       rk_base=zeros(B, "v13"), rk_sum=zeros(B, "v13"))
         self.grid_shape, self.cell_size = shape, cell
         self._scratch_arrays = arrays
@@ -107,6 +114,7 @@ class Simulator:
         """Back to the initial state of the bodies; the model is kept (no mesh reload)."""
         self.time = 0.0
         self.frame = 0
+        self._scratch_arrays["nbr_flags"].fill(1)  # the next placement builds the neighbour lists
         b = self.bodies
         self.kernels.init_bodies(self.model.args, self.state.args,
                                  *(np.array([getattr(body, key) for body in b], np.float64)

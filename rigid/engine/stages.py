@@ -1,8 +1,9 @@
 """The stages of a substep, for one body or many (Warp's ``eval_*_forces``, Brax's pipeline).
 
   1. place_particles   pᵢ = x + R r0ᵢ, vᵢ = v + ω × R r0ᵢ for every particle slot,
-  2. build the grid,   and 3a. pair_stage: each particle's force and couple from other
-                       bodies' particles (contact.py); 1-3a only when bodies collide
+  2. neighbour lists  rebuilt from a grid when a particle has moved half the skin
+                       (neighbours.py), and 3a. pair_stage: each particle's force and couple
+                       from other bodies' particles (contact.py); 1-3a only when bodies collide
   3b. block_forces     per block: fᵢ = TODO 2 (m g) + the static planes in reach + the pair
                        force, then the block's share of F = Σ TODO 3 (fᵢ) and
                        τ = Σ TODO 4 (pᵢ, x, R, r0ᵢ, fᵢ) + the pairs' couples
@@ -16,7 +17,7 @@ way, so runs are bit-reproducible. A lone body is B = 1: no grid, no pairs.
 """
 import taichi as ti
 
-from . import grid
+from . import grid, neighbours
 from .contact import pair_force, plane_force
 from .matvec import matvec
 from .state import DAMPING, FRICTION, GX, NUM_PLANES, STIFFNESS
@@ -58,13 +59,12 @@ def place_particles(model: ti.template(), state: ti.template()):
 
 
 @ti.func
-def place_particles_in_grid(model: ti.template(), state: ti.template(), scratch: ti.template()):
-    """Stages 1 and 2 (bodies in contact): place every particle and count it in its cell, in one
-    pass; then the grid's build ends with grid.finish_serial or grid.finish_parallel."""
-    grid.clear_counts(scratch)
+def place_particles_noting_motion(model: ti.template(), state: ti.template(), scratch: ti.template()):
+    """Stage 1 (bodies in contact): place every particle and note whether the neighbour lists
+    must be rebuilt (neighbours.py); then stage 2 rebuilds them if so (kernels.place_all)."""
     for i in range(state.particle_x.shape[0]):
         place_particle(model, state, i)
-        grid.count_particle(scratch, state, i)
+        neighbours.note_motion(scratch, state, i)
 
 
 @ti.func
@@ -94,8 +94,16 @@ def planes_in_reach(model: ti.template(), state: ti.template(), world: ti.templa
 
 
 @ti.func
+def _pair_with(model: ti.template(), state: ti.template(), p, r_a, x_a, v_a, w_a, k, kd, mu, j):
+    b = model.particle_body[j]
+    return pair_force(p, state.particle_x[j], r_a, model.particle_radius[b], x_a, v_a, w_a,
+                      state.x[b], state.v[b], state.omega[b], k, kd, mu)
+
+
+@ti.func
 def pair_forces(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(), i):
-    """Σ over particles j of other bodies near slot i: (force, couple about pᵢ, contact energy)."""
+    """Σ over slot i's neighbours (other bodies' particles, neighbours.py) of (force, couple about
+    pᵢ, contact energy), in list order; a particle whose list overflowed walks the build's grid."""
     a = model.particle_body[i]
     p, r_a = state.particle_x[i], model.particle_radius[a]
     k, kd, mu = contact_constants(world)
@@ -103,19 +111,27 @@ def pair_forces(model: ti.template(), state: ti.template(), world: ti.template()
     f = ti.Vector.zero(float, 3)
     couple = ti.Vector.zero(float, 3)
     energy = 0.0
-    g = grid.cell_coords(scratch, p)
-    for dz in range(-1, 2):
-        for dy in range(-1, 2):
-            for part in range(3):
-                lo, hi = grid.row_range(scratch, g[0], g[1] + dy, g[2] + dz, part)
-                for slot in range(lo, hi):
-                    b = scratch.sorted_body[slot]
-                    if b != a:
-                        fp, cp, ep = pair_force(p, scratch.sorted_x[slot], r_a, model.particle_radius[b],
-                                                x_a, v_a, w_a, state.x[b], state.v[b], state.omega[b], k, kd, mu)
-                        f += fp
-                        couple += cp
-                        energy += ep
+    stride = neighbours.list_stride(scratch, state)
+    n = scratch.nbr_count[i]
+    if n <= stride:
+        for t in range(n):
+            fp, cp, ep = _pair_with(model, state, p, r_a, x_a, v_a, w_a, k, kd, mu, scratch.nbr_list[i * stride + t])
+            f += fp
+            couple += cp
+            energy += ep
+    else:  # the same candidates, in the same order, from the grid of the last build
+        g = grid.cell_coords(scratch, scratch.build_x[i])
+        for dz in range(-1, 2):
+            for dy in range(-1, 2):
+                for part in range(3):
+                    lo, hi = grid.row_range(scratch, g[0], g[1] + dy, g[2] + dz, part)
+                    for slot in range(lo, hi):
+                        if scratch.sorted_body[slot] != a:
+                            fp, cp, ep = _pair_with(model, state, p, r_a, x_a, v_a, w_a, k, kd, mu,
+                                                    scratch.sorted_particle[slot])
+                            f += fp
+                            couple += cp
+                            energy += ep
     return f, couple, energy
 
 
