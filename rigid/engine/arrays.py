@@ -17,8 +17,8 @@ State and World are documented in model.py and state.py, the grid's arrays in gr
 rest of ScratchArgs, per particle slot [N] (world frame): ``particle_f`` the pair force,
 ``particle_couple`` the pairs' couple about the particle; per block [K]: ``block_energy`` its
 springs' energy (at a frame's end), ``partial_F``, ``partial_tau`` its share of F and τ
-(about the body's centre of mass); per body [B]: ``rk_base``, ``rk_sum`` RK4's
-Y₀ and weighted sum of its stages (x, q, P, L packed in 13 numbers). RowArgs: rows.py.
+(about the body's centre of mass); [2B]: ``rk`` RK4's Y₀ (slots 0..B−1) and the weighted sum of
+its stages (slots B..2B−1), x, q, P, L packed in 13 numbers. RowArgs: rows.py.
 """
 from __future__ import annotations
 
@@ -71,10 +71,10 @@ WorldArgs = _pack_type(dict(values=("f", 1), planes=("v4", 1)))
 
 ScratchArgs = _pack_type(dict(
     particle_f=("v3", 1), particle_couple=("v3", 1), block_energy=("f", 1), partial_F=("v3", 1), partial_tau=("v3", 1),
-    cell_count=("i", 1), cell_start=("i", 1), cell_cursor=("i", 1), particle_cell=("i", 1),
-    sorted_particle=("i", 1), sorted_x=("v3", 1), sorted_body=("i", 1), chunk_total=("i", 1), grid_dims=("i", 1), grid_inv_cell=("f", 1),
-    nbr_count=("i", 1), nbr_list=("i", 1), build_x=("v3", 1), nbr_flags=("i", 1), nbr_params=("f", 1),
-    rk_base=("v13", 1), rk_sum=("v13", 1)))
+    cell_count=("i", 1), cell_start=("i", 1), particle_cell=("i", 1),
+    sorted_particle=("i", 1), sorted_x=("v3", 1), sorted_body=("i", 1), chunk_total=("i", 1), grid_dims=("i", 1), grid_params=("f", 1),
+    nbr_count=("i", 1), nbr_list=("i", 1), build_x=("v3", 1), nbr_flags=("i", 1), active=("i", 1), build_pose=("v13", 1),
+    rk=("v13", 1)))
 
 RowArgs = _pack_type(dict(body=("f", 3), contact_energy=("f", 1)))
 

@@ -17,10 +17,10 @@ Build (taichi_dem's count / prefix sum / scatter):
 Neighbours of a particle: the 3 × 3 rows of 3 cells around it; a row's three cells are
 consecutive in memory unless it wraps, so it is one range of sorted_particle.
 
-Scratch arrays (ScratchArgs): ``cell_count``, ``cell_cursor`` [C] i32, ``cell_start`` [C + 1] i32,
+Scratch arrays (ScratchArgs): ``cell_count`` [C] i32 (then the scatter's cursors), ``cell_start`` [C + 1] i32,
 ``particle_cell``, ``sorted_particle`` [N] i32, and in that sorted order copies of each particle's
 ``sorted_x`` [N] vec3 (world) and ``sorted_body`` [N] i32, ``grid_dims`` = (D, C, scan chunks) i32,
-``grid_inv_cell`` = (1/h,) float. ``GridShape`` sizes them on the host.
+``grid_params`` = (1/h, ...) float (neighbours.py uses the rest). ``GridShape`` sizes them on the host.
 """
 
 from dataclasses import dataclass
@@ -56,7 +56,7 @@ class GridShape:
 @ti.func
 def cell_coords(s: ti.template(), p):
     """Integer cell coordinates (unwrapped) of a world point."""
-    return ti.floor(p * s.grid_inv_cell[0], ti.i32)
+    return ti.floor(p * s.grid_params[0], ti.i32)
 
 
 @ti.func
@@ -77,7 +77,7 @@ def count_particle(s: ti.template(), state: ti.template(), i):
 
 @ti.func
 def scatter_particle(s: ti.template(), i):
-    slot = ti.atomic_add(s.cell_cursor[s.particle_cell[i]], 1)
+    slot = ti.atomic_add(s.cell_count[s.particle_cell[i]], 1)
     s.sorted_particle[slot] = i
 
 
@@ -123,7 +123,7 @@ def finish_serial(s: ti.template(), model: ti.template(), state: ti.template(), 
     if gate:
         scan_serial(s.cell_count, s.cell_start, C)
     for c in range(C):
-        s.cell_cursor[c] = s.cell_start[c]
+        s.cell_count[c] = s.cell_start[c]  # the counts are summed: reuse them as cursors
     for i in range(N):
         scatter_particle(s, i)
     for k in range(N):
@@ -136,7 +136,7 @@ def finish_parallel(s: ti.template(), model: ti.template(), state: ti.template()
     then sorted by slot and its copies gathered."""
     scan_parallel(s.cell_count, s.cell_start, s.chunk_total, s.grid_dims[1] * gate, s.grid_dims[2] * gate)
     for c in range(s.grid_dims[1] * gate):
-        s.cell_cursor[c] = s.cell_start[c]
+        s.cell_count[c] = s.cell_start[c]  # the counts are summed: reuse them as cursors
     for i in range(state.particle_x.shape[0] * gate):
         scatter_particle(s, i)
     for c in range(s.grid_dims[1] * gate):

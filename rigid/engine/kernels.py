@@ -44,18 +44,24 @@ class EngineKernels:
         update = schemes.symplectic_update if scheme == "symplectic" else schemes.euler_update
 
         @ti.func
-        def place_all(model: ti.template(), state: ti.template(), scratch: ti.template(), parallel: ti.template()):
-            """Stages 1-2: every particle placed; when bodies collide, the neighbour lists rebuilt
-            (grid and lists) if a particle has moved half the skin since their last build."""
+        def place_all(model: ti.template(), state: ti.template(), scratch: ti.template(), parallel: ti.template(),
+                      everything: ti.template()):
+            """Stages 1-2: the particles placed (when bodies collide: the active ones, unless
+            ``everything`` or a rebuild), and the neighbour lists rebuilt (grid and lists) if a
+            particle may have moved half the skin since their last build."""
             if ti.static(pairs):
-                stages.place_particles_noting_motion(model, state, scratch)
+                stages.note_motion(state, scratch)
+                stages.place_for_pairs(model, state, scratch, everything)
                 grid.clear_and_count(scratch, state, neighbours.rebuild_gate(scratch))
                 if ti.static(parallel):
                     grid.finish_parallel(scratch, model, state, neighbours.rebuild_gate(scratch))
                 else:
                     grid.finish_serial(scratch, model, state, neighbours.rebuild_gate(scratch))
+                neighbours.start_build(scratch)
                 for i in range(state.particle_x.shape[0] * neighbours.rebuild_gate(scratch)):
                     neighbours.build_list(model, state, scratch, i)
+                for b in range(state.x.shape[0] * neighbours.rebuild_gate(scratch)):
+                    neighbours.keep_build_pose(scratch, state, b)
                 neighbours.clear_flag(scratch)
             else:
                 stages.place_particles(model, state)
@@ -65,11 +71,9 @@ class EngineKernels:
                    parallel: ti.template()):
             """Stages 1-3: the pair forces (when bodies collide), then each block's forces and shares."""
             if ti.static(pairs):
-                place_all(model, state, scratch, parallel)
-                for c in range(state.particle_x.shape[0]):
-                    # In parallel, in cell order (neighbours close in memory); serially in slot order.
-                    i = scratch.sorted_particle[c] if ti.static(parallel) else c
-                    stages.pair_stage(model, state, world, scratch, i)
+                place_all(model, state, scratch, parallel, False)
+                for t in range(neighbours.num_active(scratch)):  # each writes its own slot: any order
+                    stages.pair_stage(model, state, world, scratch, scratch.active[t])
             for k in range(model.block_start.shape[0]):
                 stages.block_forces(u, model, state, world, scratch, k, pairs)
 
@@ -102,7 +106,7 @@ class EngineKernels:
             for frame in range(frames):
                 for _step in range(substeps):
                     substep_stages(model, state, world, scratch, False)
-                place_all(model, state, scratch, False)
+                place_all(model, state, scratch, False, True)
                 energy = 0.0
                 for k in range(model.block_start.shape[0]):
                     energy += stages.block_contact_energy(model, state, world, scratch, k, pairs)
@@ -114,7 +118,7 @@ class EngineKernels:
 
         @ti.kernel
         def finish_frame(model: M, state: S, world: W, scratch: C, rows: Rw, slot: ti.i32):
-            place_all(model, state, scratch, True)
+            place_all(model, state, scratch, True, True)
             for k in range(model.block_start.shape[0]):  # the blocks in parallel, summed in order below
                 scratch.block_energy[k] = stages.block_contact_energy(model, state, world, scratch, k, pairs)
             ti.loop_config(serialize=True)

@@ -6,7 +6,9 @@ each particle keeps a list of the other bodies' particles within r_a + r_b + ski
 from the grid (grid.py, cells of the largest diameter + the skin) and reused until some
 particle has moved more than half the skin from where it was at the build: until then no pair
 can have closed from beyond reach + skin to within reach, so every pair in contact is in the
-list (Verlet 1967; the classic rebuild test). Own-body candidates never enter the list.
+list (Verlet 1967; the classic rebuild test, here bounded per body: note_body_motion). Own-body
+candidates never enter the list. Only the particles with a candidate (the active list) are
+placed and visited by the pair stage between builds; the others' pair force stays zero.
 
 The list of particle i is nbr_list[i·K .. i·K + nbr_count[i]) (K = its length / N), in the
 grid walk's order, so each sum over it has a fixed order and runs are bit-reproducible; it is
@@ -16,24 +18,59 @@ the cell of its build position, testing the candidates' current positions: the s
 candidates in the same order, so the same bits as an unlimited list (no contact is dropped).
 
 Scratch arrays (ScratchArgs): ``nbr_count`` [N] i32, ``nbr_list`` [N·K] i32 (particle slots),
-``build_x`` [N] vec3 (world positions at the last build), ``nbr_flags`` [1] i32 (1: rebuild at
-the next placement), ``nbr_params`` = (skin, (skin/2)²) float.
+``build_x`` [N] vec3 (world positions at the last build), ``active`` [N] i32 (the slots with a
+candidate, first nbr_flags[2] of them), ``nbr_flags`` [3] i32 (1: rebuild at the next placement;
+builds so far; active particles), ``grid_params`` [1], [2] = the skin, the motion allowed before a
+rebuild (half the skin less 2 % for round-off); per body [B]: ``build_pose`` = its x (3) and R
+(9, row by row) at the last build and ρ_b, its largest |r0| (13 floats).
 """
 import taichi as ti
 
 from . import grid
 
 NEIGHBOURS_PER_PARTICLE = 16  # list slots per particle; beyond, the particle walks the grid (exact)
-SKIN_FRACTION = 0.4  # skin = this × the largest particle diameter (measured: 0.3-0.5 is flat)
+SKIN_FRACTION = 0.5  # skin = this × the largest particle diameter
+ALLOWED_MOTION = 0.49  # × the skin: a particle's motion before a rebuild (half, less 2 % for round-off)
 
 
 @ti.func
-def note_motion(scratch: ti.template(), state: ti.template(), i):
-    """Ask for a rebuild if slot i has moved more than half the skin since the last build (a
-    NaN counts as moved). Writers only ever store 1, so running in parallel is safe."""
-    d = state.particle_x[i] - scratch.build_x[i]
-    if not (d.dot(d) <= scratch.nbr_params[1]):
+def note_body_motion(scratch: ti.template(), state: ti.template(), b):
+    """Ask for a rebuild if a particle of body b may have moved more than half the skin since
+    the last build. Particle p = x + R r0 moved by |Δp| <= |Δx| + ‖ΔR‖_F |r0| <= |Δx| + ‖ΔR‖_F ρ_b
+    (ρ_b the body's largest |r0|): one test per body, not per particle, for any matrix R. A NaN
+    counts as moved; writers only ever store 1, so running in parallel is safe."""
+    pose = scratch.build_pose[b]
+    x, R = state.x[b], state.R[b]
+    dx = ti.Vector([x[0] - pose[0], x[1] - pose[1], x[2] - pose[2]])
+    frob2 = 0.0
+    for r, c in ti.static(ti.ndrange(3, 3)):
+        frob2 += (R[r, c] - pose[3 + 3 * r + c]) ** 2
+    bound = ti.sqrt(dx.dot(dx)) + ti.sqrt(frob2) * pose[12]
+    if not (bound <= scratch.grid_params[2]):
         scratch.nbr_flags[0] = 1
+
+
+@ti.func
+def keep_build_pose(scratch: ti.template(), state: ti.template(), b):
+    x, R = state.x[b], state.R[b]
+    pose = scratch.build_pose[b]
+    for c in ti.static(range(3)):
+        pose[c] = x[c]
+    for r, c in ti.static(ti.ndrange(3, 3)):
+        pose[3 + 3 * r + c] = R[r, c]
+    scratch.build_pose[b] = pose  # ρ_b (pose[12]) kept
+
+
+@ti.func
+def start_build(scratch: ti.template()):
+    """Empty the active list if a build follows (a top-level statement: no loop)."""
+    scratch.nbr_flags[2] *= 1 - scratch.nbr_flags[0]
+
+
+@ti.func
+def num_active(scratch: ti.template()):
+    """Particles with a candidate at the last build (the pair stage visits only these)."""
+    return scratch.nbr_flags[2]
 
 
 @ti.func
@@ -48,7 +85,7 @@ def build_list(model: ti.template(), state: ti.template(), scratch: ti.template(
     """Slot i's candidates from the freshly built grid: other bodies' particles within reach + skin."""
     a = model.particle_body[i]
     p, r_a = state.particle_x[i], model.particle_radius[a]
-    skin = scratch.nbr_params[0]
+    skin = scratch.grid_params[1]
     stride = scratch.nbr_list.shape[0] // state.particle_x.shape[0]
     n = 0
     g = grid.cell_coords(scratch, p)
@@ -67,10 +104,17 @@ def build_list(model: ti.template(), state: ti.template(), scratch: ti.template(
                             n += 1
     scratch.nbr_count[i] = n
     scratch.build_x[i] = p
+    if n > 0:  # visited by the pair stage until the next build (in any order: each writes its own)
+        scratch.active[ti.atomic_add(scratch.nbr_flags[2], 1)] = i
+    else:  # never visited: no pair force until the next build
+        scratch.particle_f[i] = ti.Vector.zero(float, 3)
+        scratch.particle_couple[i] = ti.Vector.zero(float, 3)
 
 
 @ti.func
 def clear_flag(scratch: ti.template()):
+    """After a build (or none): count it (nbr_flags[1], for benchmarks) and lower the flag."""
+    scratch.nbr_flags[1] += scratch.nbr_flags[0]
     scratch.nbr_flags[0] = 0
 
 

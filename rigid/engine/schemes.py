@@ -73,8 +73,8 @@ def _store13(u: ti.template(), model: ti.template(), state: ti.template(), b, y)
 
 @ti.func
 def rk4_begin(state: ti.template(), scratch: ti.template(), b):
-    scratch.rk_base[b] = _pack13(state.x[b], state.q[b], state.P[b], state.L[b])
-    scratch.rk_sum[b] = ti.Vector.zero(float, 13)
+    scratch.rk[b] = _pack13(state.x[b], state.q[b], state.P[b], state.L[b])
+    scratch.rk[state.x.shape[0] + b] = ti.Vector.zero(float, 13)
 
 
 @ti.func
@@ -84,14 +84,14 @@ def rk4_stage(u: ti.template(), model: ti.template(), state: ti.template(), scra
     w = state.omega[b]
     q_dot = 0.5 * quaternion_multiplication(ti.Vector([0.0, w[0], w[1], w[2]]), state.q[b])
     k = _pack13(state.v[b], q_dot, F, tau)
-    scratch.rk_sum[b] += RK4_WEIGHTS[stage] * k
+    scratch.rk[state.x.shape[0] + b] += RK4_WEIGHTS[stage] * k
     if ti.static(stage < 3):
-        _store13(u, model, state, b, scratch.rk_base[b] + (RK4_NODES[stage + 1] * dt) * k)
+        _store13(u, model, state, b, scratch.rk[b] + (RK4_NODES[stage + 1] * dt) * k)
 
 
 @ti.func
 def rk4_finish(u: ti.template(), model: ti.template(), state: ti.template(), scratch: ti.template(), b, dt):
-    y = scratch.rk_base[b] + (dt / 6.0) * scratch.rk_sum[b]
+    y = scratch.rk[b] + (dt / 6.0) * scratch.rk[state.x.shape[0] + b]
     q = ti.Vector([y[3], y[4], y[5], y[6]])
     q = q / q.norm()
     store(u, model, state, b, ti.Vector([y[0], y[1], y[2]]), q, ti.Vector([y[7], y[8], y[9]]),

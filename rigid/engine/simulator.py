@@ -77,18 +77,27 @@ class Simulator:
         arrays = dict(particle_f=zeros(N, "v3"), particle_couple=zeros(N, "v3"), block_energy=zeros(self.model.num_blocks),
                       partial_F=zeros(self.model.num_blocks, "v3"), partial_tau=zeros(self.model.num_blocks, "v3"),
                       cell_count=zeros(shape.num_cells, "i"), cell_start=zeros(shape.num_cells + 1, "i"),
-                      cell_cursor=zeros(shape.num_cells, "i"), particle_cell=zeros(N, "i"),
+                      particle_cell=zeros(N, "i"),
                       sorted_particle=zeros(N, "i"), sorted_x=zeros(N if pairs else 1, "v3"),
                       sorted_body=zeros(N if pairs else 1, "i"), chunk_total=zeros(shape.num_chunks + 1, "i"),
                       grid_dims=device_array(np.array([shape.dim, shape.num_cells, shape.num_chunks]), dtype=ti.i32),
-                      grid_inv_cell=device_array(np.array([1.0 / cell])),
+                      grid_params=device_array(np.array([1.0 / cell, skin, neighbours.ALLOWED_MOTION * skin])),
                       nbr_count=zeros(N if pairs else 1, "i"), nbr_list=zeros(lists, "i"),
-                      build_x=zeros(N if pairs else 1, "v3"), nbr_flags=zeros(1, "i"),
-                      nbr_params=device_array(np.array([skin, (0.5 * skin) ** 2])),
-                      rk_base=zeros(B, "v13"), rk_sum=zeros(B, "v13"))
+                      build_x=zeros(N if pairs else 1, "v3"), nbr_flags=zeros(3, "i"),
+                      active=zeros(N if pairs else 1, "i"), build_pose=device_array(self._build_pose(), 13),
+                      rk=zeros(2 * B, "v13"))
         self.grid_shape, self.cell_size = shape, cell
         self._scratch_arrays = arrays
         self.scratch = ScratchArgs()(**{name: arrays[name] for name in ScratchArgs.NAMES})
+
+    def _build_pose(self) -> np.ndarray:
+        """(B, 13) the neighbour lists' pose per body (set at each build), with ρ_b, the body's
+        largest particle offset |r0| (rounded up), in its last slot (neighbours.py)."""
+        m = self.model
+        norms = np.linalg.norm(m.r0_np, axis=1)
+        pose = np.zeros((m.num_bodies, 13))
+        pose[:, 12] = [norms[s:s + c].max() * (1 + 1e-6) + 1e-9 for s, c in zip(m.body_start_np, m.body_count_np)]
+        return pose
 
     # -- sizes ------------------------------------------------------------------------------
     @property
@@ -109,12 +118,21 @@ class Simulator:
         """Substeps per frame for the current Δt (a window's slider may change Δt)."""
         return max(1, int((1.0 / 60.0) // self.params.dt))
 
+    @property
+    def neighbour_builds(self) -> int:
+        """How many times the neighbour lists were built (benchmarks: rebuilds per substep)."""
+        return int(self._scratch_arrays["nbr_flags"].to_numpy()[1])
+
+    def neighbour_counts(self) -> np.ndarray:
+        """(N,) candidates in each particle's list at its last build (slot order; benchmarks)."""
+        return self._scratch_arrays["nbr_count"].to_numpy()
+
     # -- state ------------------------------------------------------------------------------
     def reset(self):
         """Back to the initial state of the bodies; the model is kept (no mesh reload)."""
         self.time = 0.0
         self.frame = 0
-        self._scratch_arrays["nbr_flags"].fill(1)  # the next placement builds the neighbour lists
+        self._scratch_arrays["nbr_flags"][0] = 1  # the next placement builds the neighbour lists
         b = self.bodies
         self.kernels.init_bodies(self.model.args, self.state.args,
                                  *(np.array([getattr(body, key) for body in b], np.float64)

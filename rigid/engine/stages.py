@@ -59,12 +59,23 @@ def place_particles(model: ti.template(), state: ti.template()):
 
 
 @ti.func
-def place_particles_noting_motion(model: ti.template(), state: ti.template(), scratch: ti.template()):
-    """Stage 1 (bodies in contact): place every particle and note whether the neighbour lists
-    must be rebuilt (neighbours.py); then stage 2 rebuilds them if so (kernels.place_all)."""
-    for i in range(state.particle_x.shape[0]):
+def note_motion(state: ti.template(), scratch: ti.template()):
+    """Stage 1a (bodies in contact): whether the neighbour lists must be rebuilt (neighbours.py)."""
+    for b in range(state.x.shape[0]):
+        neighbours.note_body_motion(scratch, state, b)
+
+
+@ti.func
+def place_for_pairs(model: ti.template(), state: ti.template(), scratch: ti.template(), everything: ti.template()):
+    """Stage 1b (bodies in contact): every particle placed if the lists are rebuilt now or
+    ``everything`` (a frame's end), else only the active ones (the pair stage reads no other)."""
+    gate = neighbours.rebuild_gate(scratch)
+    if ti.static(everything):
+        gate = 1
+    for i in range(state.particle_x.shape[0] * gate):
         place_particle(model, state, i)
-        neighbours.note_motion(scratch, state, i)
+    for t in range(neighbours.num_active(scratch) * (1 - gate)):
+        place_particle(model, state, scratch.active[t])
 
 
 @ti.func
@@ -95,9 +106,18 @@ def planes_in_reach(model: ti.template(), state: ti.template(), world: ti.templa
 
 @ti.func
 def _pair_with(model: ti.template(), state: ti.template(), p, r_a, x_a, v_a, w_a, k, kd, mu, j):
+    """pair_force of slot j on the particle at p, its body's state loaded only when the spheres
+    overlap (most candidates do not: then exactly the zeros pair_force would give)."""
+    f = ti.Vector.zero(float, 3)
+    c = ti.Vector.zero(float, 3)
+    e = 0.0
     b = model.particle_body[j]
-    return pair_force(p, state.particle_x[j], r_a, model.particle_radius[b], x_a, v_a, w_a,
-                      state.x[b], state.v[b], state.omega[b], k, kd, mu)
+    p_j, r_b = state.particle_x[j], model.particle_radius[b]
+    d = p_j - p
+    reach = r_a + r_b
+    if d.dot(d) < reach * reach:
+        f, c, e = pair_force(p, p_j, r_a, r_b, x_a, v_a, w_a, state.x[b], state.v[b], state.omega[b], k, kd, mu)
+    return f, c, e
 
 
 @ti.func
