@@ -53,7 +53,7 @@ def _kernels(units):
         ti.loop_config(serialize=True)
         for _ in range(reps):
             for t in range(neighbours.num_active(scratch)):
-                stages.pair_stage(model, state, world, scratch, scratch.active[t])
+                stages.pair_stage(model, state, world, scratch, scratch.active[t], False)
 
     @ti.kernel
     def blocks(model: M, state: S, world: W, scratch: C, reps: ti.i32):

@@ -41,7 +41,8 @@ def host_float():
 def _element(kind: str):
     f = float_dtype()
     return {"f": f, "i": ti.i32, "v3": ti.types.vector(3, f), "v4": ti.types.vector(4, f),
-            "v13": ti.types.vector(13, f), "m3": ti.types.matrix(3, 3, f)}[kind]
+            "v13": ti.types.vector(13, f), "m3": ti.types.matrix(3, 3, f),
+            "v3i": ti.types.vector(3, ti.i32)}[kind]
 
 
 def _pack_type(members: dict):
@@ -65,7 +66,7 @@ ModelArgs = _pack_type(dict(
 
 StateArgs = _pack_type(dict(
     x=("v3", 1), q=("v4", 1), P=("v3", 1), L=("v3", 1), v=("v3", 1), omega=("v3", 1),
-    R=("m3", 1), inertia_inv=("m3", 1), particle_x=("v3", 1), particle_v=("v3", 1)))
+    R=("m3", 1), inertia_inv=("m3", 1), particle_x=("v3", 1), particle_v=("v3", 1), sleep=("v3i", 1)))
 
 WorldArgs = _pack_type(dict(values=("f", 1), planes=("v4", 1)))
 

@@ -14,7 +14,7 @@ Two schedules run the same stages (stages.py), chosen by schedule.py:
 
 import taichi as ti
 
-from . import grid, neighbours, schemes, stages
+from . import grid, neighbours, schemes, sleep, stages
 from .arrays import ModelArgs, RowArgs, ScratchArgs, StateArgs, SurfaceArgs, WorldArgs
 from .matvec import matvec
 from .state import DT
@@ -41,6 +41,7 @@ class EngineKernels:
         u = units
         M, S, W, C, Rw, Sf = ModelArgs(), StateArgs(), WorldArgs(), ScratchArgs(), RowArgs(), SurfaceArgs()
         rk4 = scheme == "rk4"
+        sleeping = pairs and not rk4  # bodies may sleep (sleep.py): many bodies, Euler or symplectic
         update = schemes.symplectic_update if scheme == "symplectic" else schemes.euler_update
 
         @ti.func
@@ -73,9 +74,24 @@ class EngineKernels:
             if ti.static(pairs):
                 place_all(model, state, scratch, parallel, False)
                 for t in range(neighbours.num_active(scratch)):  # each writes its own slot: any order
-                    stages.pair_stage(model, state, world, scratch, scratch.active[t])
+                    i = scratch.active[t]
+                    if ti.static(sleeping):  # awake bodies; they mark the sleepers a moving one touches
+                        if not sleep.asleep(state, model.particle_body[i]):
+                            stages.pair_stage(model, state, world, scratch, i, True)
+                    else:
+                        stages.pair_stage(model, state, world, scratch, i, False)
+                if ti.static(sleeping):
+                    for t in range(neighbours.num_active(scratch)):  # the sleepers woken just now
+                        i = scratch.active[t]
+                        b = model.particle_body[i]
+                        if sleep.asleep(state, b) and not sleep.resting(state, b):
+                            stages.pair_stage(model, state, world, scratch, i, False)
             for k in range(model.block_start.shape[0]):
-                stages.block_forces(u, model, state, world, scratch, k, pairs)
+                if ti.static(sleeping):
+                    if not sleep.resting(state, model.block_body[k]):
+                        stages.block_forces(u, model, state, world, scratch, k, pairs)
+                else:
+                    stages.block_forces(u, model, state, world, scratch, k, pairs)
 
         @ti.func
         def substep_stages(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(),
@@ -96,8 +112,17 @@ class EngineKernels:
             else:
                 forces(model, state, world, scratch, parallel)
                 for b in range(state.x.shape[0]):
-                    F, tau = stages.body_wrench(model, scratch, b)
-                    update(u, model, state, b, dt, F, tau)
+                    if ti.static(sleeping):
+                        if not sleep.resting(state, b):
+                            sleep.begin_update(state, b)
+                            F, tau = stages.body_wrench(model, scratch, b)
+                            update(u, model, state, b, dt, F, tau)
+                            if sleep.end_update(state, world, scratch, b):  # at rest from now on
+                                zero = ti.Vector.zero(float, 3)
+                                schemes.store(u, model, state, b, state.x[b], state.q[b], zero, zero, state.R[b])
+                    else:
+                        F, tau = stages.body_wrench(model, scratch, b)
+                        update(u, model, state, b, dt, F, tau)
 
         @ti.kernel
         def run_frames(model: M, state: S, world: W, scratch: C, rows: Rw, frames: ti.i32, substeps: ti.i32):
@@ -143,6 +168,7 @@ class EngineKernels:
             ti.loop_config(serialize=True)
             for _ in range(1):
                 schemes.impulse(u, model, state, i, J)
+                sleep.wake(state, model.particle_body[i])
             stages.place_particles(model, state)
 
         @ti.kernel

@@ -133,13 +133,15 @@ class Simulator:
         self.time = 0.0
         self.frame = 0
         self._scratch_arrays["nbr_flags"][0] = 1  # the next placement builds the neighbour lists
+        self.state.sleep.fill(0)  # every body awake
+        self._params_version = self.params.version
         b = self.bodies
         self.kernels.init_bodies(self.model.args, self.state.args,
                                  *(np.array([getattr(body, key) for body in b], np.float64)
                                    for key in ("position", "orientation", "velocity", "angular_velocity")))
 
     # Changing these needs no new model: they are runtime parameters or initial conditions.
-    RUNTIME_KEYS = frozenset(Params.NAMES) | {"gravity", "walls", "position", "initial_velocity",
+    RUNTIME_KEYS = frozenset(Params.NAMES) | {"gravity", "walls", "sleep", "position", "initial_velocity",
                                                "initial_angular_velocity", "frames", "seed"}
     PLACEMENT_KEYS = frozenset({"position", "initial_velocity", "initial_angular_velocity", "seed"})
 
@@ -217,6 +219,8 @@ class Simulator:
                                   substep=PreparedLaunch(k.substep, m, s, w, c),
                                   finish_frame=PreparedLaunch(k.finish_frame, m, s, w, c, r, 0))
         launch = self._launches
+        if self._params_version != self.params.version:  # a runtime parameter changed: wake every body
+            self.wake()
         if self.schedule == "serial":
             launch["run_frames"](frames=frames, substeps=substeps)
             return
@@ -224,6 +228,21 @@ class Simulator:
             for _ in range(substeps):
                 launch["substep"]()
             launch["finish_frame"](slot=frame)
+
+    def wake(self, bodies=None):
+        """Wake bodies (all by default; an index or a list of indices) that sleep (sleep.py): a
+        grab or any outside push should call this for the body it moves."""
+        self._params_version = self.params.version
+        if bodies is None:
+            self.state.sleep.fill(0)
+            return
+        sleep = self.state.sleep.to_numpy()
+        sleep[np.atleast_1d(np.asarray(bodies, int))] = 0
+        self.state.sleep.from_numpy(sleep)
+
+    def asleep(self) -> np.ndarray:
+        """(B,) bool: which bodies sleep now (at rest, not integrated; the window greys them)."""
+        return self.state.sleep.to_numpy()[:, 0] != 0
 
     def apply_impulse(self, particle: int, impulse):
         """Hit particle ``particle`` (its index in the mesh files' order, body after body) with

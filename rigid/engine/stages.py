@@ -17,7 +17,7 @@ way, so runs are bit-reproducible. A lone body is B = 1: no grid, no pairs.
 """
 import taichi as ti
 
-from . import grid, neighbours
+from . import grid, neighbours, sleep
 from .contact import pair_force, plane_force
 from .matvec import matvec
 from .state import DAMPING, FRICTION, GX, NUM_PLANES, STIFFNESS
@@ -75,7 +75,9 @@ def place_for_pairs(model: ti.template(), state: ti.template(), scratch: ti.temp
     for i in range(state.particle_x.shape[0] * gate):
         place_particle(model, state, i)
     for t in range(neighbours.num_active(scratch) * (1 - gate)):
-        place_particle(model, state, scratch.active[t])
+        i = scratch.active[t]
+        if not sleep.asleep(state, model.particle_body[i]):  # a sleeper's particles stay where they are
+            place_particle(model, state, i)
 
 
 @ti.func
@@ -121,9 +123,11 @@ def _pair_with(model: ti.template(), state: ti.template(), p, r_a, x_a, v_a, w_a
 
 
 @ti.func
-def pair_forces(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(), i):
+def pair_forces(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(), i,
+                wake: ti.template()):
     """Σ over slot i's neighbours (other bodies' particles, neighbours.py) of (force, couple about
-    pᵢ, contact energy), in list order; a particle whose list overflowed walks the build's grid."""
+    pᵢ, contact energy), in list order; a particle whose list overflowed walks the build's grid.
+    With ``wake``, a moving body marks the sleeping bodies it touches as woken (sleep.py)."""
     a = model.particle_body[i]
     p, r_a = state.particle_x[i], model.particle_radius[a]
     k, kd, mu = contact_constants(world)
@@ -133,9 +137,16 @@ def pair_forces(model: ti.template(), state: ti.template(), world: ti.template()
     energy = 0.0
     stride = neighbours.list_stride(scratch, state)
     n = scratch.nbr_count[i]
+    waker = 0
+    if ti.static(wake):
+        waker = sleep.moving(state, world, scratch, a)
     if n <= stride:
         for t in range(n):
-            fp, cp, ep = _pair_with(model, state, p, r_a, x_a, v_a, w_a, k, kd, mu, scratch.nbr_list[i * stride + t])
+            j = scratch.nbr_list[i * stride + t]
+            fp, cp, ep = _pair_with(model, state, p, r_a, x_a, v_a, w_a, k, kd, mu, j)
+            if ti.static(wake):
+                if waker and ep > 0 and sleep.asleep(state, model.particle_body[j]):
+                    sleep.mark_woken(state, model.particle_body[j])
             f += fp
             couple += cp
             energy += ep
@@ -147,8 +158,11 @@ def pair_forces(model: ti.template(), state: ti.template(), world: ti.template()
                     lo, hi = grid.row_range(scratch, g[0], g[1] + dy, g[2] + dz, part)
                     for slot in range(lo, hi):
                         if scratch.sorted_body[slot] != a:
-                            fp, cp, ep = _pair_with(model, state, p, r_a, x_a, v_a, w_a, k, kd, mu,
-                                                    scratch.sorted_particle[slot])
+                            j = scratch.sorted_particle[slot]
+                            fp, cp, ep = _pair_with(model, state, p, r_a, x_a, v_a, w_a, k, kd, mu, j)
+                            if ti.static(wake):
+                                if waker and ep > 0 and sleep.asleep(state, model.particle_body[j]):
+                                    sleep.mark_woken(state, model.particle_body[j])
                             f += fp
                             couple += cp
                             energy += ep
@@ -160,9 +174,11 @@ NEAR_SLOTS = 3  # planes a block's loop tests with its slots unrolled (the box: 
 
 
 @ti.func
-def pair_stage(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(), i):
-    """Stage 3a (bodies in contact): slot i's force and couple from other bodies' particles."""
-    fp, cp, _e = pair_forces(model, state, world, scratch, i)
+def pair_stage(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(), i,
+               wake: ti.template()):
+    """Stage 3a (bodies in contact): slot i's force and couple from other bodies' particles
+    (``wake``: and the sleepers it wakes, sleep.py)."""
+    fp, cp, _e = pair_forces(model, state, world, scratch, i, wake)
     scratch.particle_f[i] = fp
     scratch.particle_couple[i] = cp
 
@@ -287,6 +303,6 @@ def block_contact_energy(model: ti.template(), state: ti.template(), world: ti.t
                                         stiffness, kd, mu)
                     energy += e
         if ti.static(pairs):
-            _f, _c, e = pair_forces(model, state, world, scratch, i)
+            _f, _c, e = pair_forces(model, state, world, scratch, i, False)
             energy += e
     return energy
