@@ -39,7 +39,11 @@ def _kernels(units):
             grid.finish_serial(scratch, model, state, 1)
             scratch.nbr_flags[2] = 0
             for i in range(state.particle_x.shape[0]):
+                neighbours.clear_list(scratch, i)
+            for i in range(state.particle_x.shape[0]):
                 neighbours.build_list(model, state, scratch, i)
+            for i in range(state.particle_x.shape[0]):
+                neighbours.finish_list(state, scratch, i)
 
     @ti.kernel
     def grid_only(model: M, state: S, scratch: C, reps: ti.i32):

@@ -30,10 +30,18 @@ import taichi as ti
 from .scan import CHUNK, scan_parallel, scan_serial
 
 
-def grid_dimension(num_particles: int) -> int:
-    """Cells per axis: the power of two with D³ >= 2 N, at least 8 and at most 256."""
+SPAN_MAX_DIM = 64  # the box's span alone never asks for more than 64³ cells
+
+
+def grid_dimension(num_particles: int, span_cells: float = 0.0) -> int:
+    """Cells per axis: the power of two with D³ >= 2 N, at least 8 and at most 256, and at least
+    the box's span in cells (up to SPAN_MAX_DIM): a small scene's grid then does not wrap inside
+    the box, where wrapped cells would bring far particles in as candidates. The grid is built
+    only when the neighbour lists are, so a few more cells cost little."""
     d = 8
     while d * d * d < 2 * num_particles and d < 256:
+        d *= 2
+    while d < span_cells and d < SPAN_MAX_DIM:
         d *= 2
     return d
 
@@ -47,8 +55,9 @@ class GridShape:
     num_chunks: int
 
     @classmethod
-    def for_particles(cls, num_particles: int, pairs: bool) -> "GridShape":
-        dim = grid_dimension(num_particles) if pairs else 1
+    def for_particles(cls, num_particles: int, pairs: bool, span_cells: float = 0.0) -> "GridShape":
+        """``span_cells``: the box's width in cells (0: no walls)."""
+        dim = grid_dimension(num_particles, span_cells) if pairs else 1
         cells = dim ** 3
         return cls(dim, cells, max(1, (cells + CHUNK - 1) // CHUNK))
 

@@ -60,7 +60,11 @@ class EngineKernels:
                     grid.finish_serial(scratch, model, state, neighbours.rebuild_gate(scratch))
                 neighbours.start_build(scratch)
                 for i in range(state.particle_x.shape[0] * neighbours.rebuild_gate(scratch)):
+                    neighbours.clear_list(scratch, i)
+                for i in range(state.particle_x.shape[0] * neighbours.rebuild_gate(scratch)):
                     neighbours.build_list(model, state, scratch, i)
+                for i in range(state.particle_x.shape[0] * neighbours.rebuild_gate(scratch)):
+                    neighbours.finish_list(state, scratch, i)
                 for b in range(state.x.shape[0] * neighbours.rebuild_gate(scratch)):
                     neighbours.keep_build_pose(scratch, state, b)
                 neighbours.clear_flag(scratch)

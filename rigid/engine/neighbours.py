@@ -10,12 +10,12 @@ list (Verlet 1967; the classic rebuild test, here bounded per body: note_body_mo
 candidates never enter the list. Only the particles with a candidate (the active list) are
 placed and visited by the pair stage between builds; the others' pair force stays zero.
 
-The list of particle i is nbr_list[i·K .. i·K + nbr_count[i]) (K = its length / N), in the
-grid walk's order, so each sum over it has a fixed order and runs are bit-reproducible; it is
-symmetric (j in i's list iff i in j's: the test is the same bits both ways). A particle with
-more than K candidates keeps only its count, and its sum walks the build's grid again around
-the cell of its build position, testing the candidates' current positions: the same
-candidates in the same order, so the same bits as an unlimited list (no contact is dropped).
+The list of particle i is nbr_list[i·K .. i·K + nbr_count[i]) (K = its length / N), sorted by
+slot, so each sum over it has a fixed order whatever the threads did, and runs are
+bit-reproducible; it is symmetric (each pair is tested once, from one side, and entered in
+both lists). A particle with more than K candidates keeps only its count, and its sum walks
+the build's grid again around the cell of its build position, testing the candidates' current
+positions (a superset of its list: exact, in the walk's fixed order): no contact is dropped.
 
 Scratch arrays (ScratchArgs): ``nbr_count`` [N] i32, ``nbr_list`` [N·K] i32 (particle slots),
 ``build_x`` [N] vec3 (world positions at the last build), ``active`` [N] i32 (the slots with a
@@ -81,30 +81,60 @@ def rebuild_gate(scratch: ti.template()):
 
 
 @ti.func
+def clear_list(scratch: ti.template(), i):
+    scratch.nbr_count[i] = 0
+
+
+@ti.func
+def _append(scratch: ti.template(), i, j, stride):
+    n = ti.atomic_add(scratch.nbr_count[i], 1)
+    if n < stride:
+        scratch.nbr_list[i * stride + n] = j
+
+
+@ti.func
 def build_list(model: ti.template(), state: ti.template(), scratch: ti.template(), i):
-    """Slot i's candidates from the freshly built grid: other bodies' particles within reach + skin."""
+    """Slot i's pairs from the freshly built grid, each pair found once (a half shell: the rows
+    ahead of i's in z, then in y, and in i's own row only slots j > i) and appended to both
+    lists; other bodies' particles within reach + skin. Then finish_list."""
     a = model.particle_body[i]
     p, r_a = state.particle_x[i], model.particle_radius[a]
     skin = scratch.grid_params[1]
-    stride = scratch.nbr_list.shape[0] // state.particle_x.shape[0]
-    n = 0
+    stride = list_stride(scratch, state)
     g = grid.cell_coords(scratch, p)
-    for dz in range(-1, 2):
+    for dz in range(0, 2):
         for dy in range(-1, 2):
-            for part in range(3):
-                lo, hi = grid.row_range(scratch, g[0], g[1] + dy, g[2] + dz, part)
-                for slot in range(lo, hi):
-                    b = scratch.sorted_body[slot]
-                    if b != a:
-                        d = scratch.sorted_x[slot] - p
-                        reach = r_a + model.particle_radius[b] + skin
-                        if d.dot(d) < reach * reach:
-                            if n < stride:
-                                scratch.nbr_list[i * stride + n] = scratch.sorted_particle[slot]
-                            n += 1
-    scratch.nbr_count[i] = n
+            if dz == 1 or dy >= 0:
+                own_row = dz == 0 and dy == 0
+                for part in range(3):
+                    lo, hi = grid.row_range(scratch, g[0], g[1] + dy, g[2] + dz, part)
+                    for slot in range(lo, hi):
+                        j = scratch.sorted_particle[slot]
+                        b = scratch.sorted_body[slot]
+                        if b != a and (j > i or not own_row):
+                            d = scratch.sorted_x[slot] - p
+                            reach = r_a + model.particle_radius[b] + skin
+                            if d.dot(d) < reach * reach:
+                                _append(scratch, i, j, stride)
+                                _append(scratch, j, i, stride)
     scratch.build_x[i] = p
-    if n > 0:  # visited by the pair stage until the next build (in any order: each writes its own)
+
+
+@ti.func
+def finish_list(state: ti.template(), scratch: ti.template(), i):
+    """Sort slot i's list by slot (the appends' order depends on the threads; sorted, the sums over
+    it have one order), and enter it in the active list if it has a candidate."""
+    stride = list_stride(scratch, state)
+    n = ti.min(scratch.nbr_count[i], stride)
+    base = i * stride
+    for t in range(1, n):  # insertion sort: a few entries
+        value = scratch.nbr_list[base + t]
+        k = t - 1
+        while k >= 0 and scratch.nbr_list[base + k] > value:
+            scratch.nbr_list[base + k + 1] = scratch.nbr_list[base + k]
+            k -= 1
+        scratch.nbr_list[base + k + 1] = value
+    if scratch.nbr_count[i] > 0:  # visited by the pair stage until the next build (in any order: each writes its own)
         scratch.active[ti.atomic_add(scratch.nbr_flags[2], 1)] = i
     else:  # never visited: no pair force until the next build
         scratch.particle_f[i] = ti.Vector.zero(float, 3)

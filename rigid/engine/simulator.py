@@ -69,10 +69,11 @@ class Simulator:
 
     def _scratch(self, B: int, N: int, pairs: bool):
         """The arrays a substep rewrites (forces, partial sums, the grid, RK4)."""
-        shape = GridShape.for_particles(N, pairs)
         diameter = 2.0 * max(float(self.model.radius_np.max()), 1e-6)
         skin = neighbours.SKIN_FRACTION * diameter
         cell = diameter + skin
+        span = 2.0 * self.config.wall / cell + 2 if self.config.walls else 0.0
+        shape = GridShape.for_particles(N, pairs, span)
         lists = N * neighbours.NEIGHBOURS_PER_PARTICLE if pairs else 1
         arrays = dict(particle_f=zeros(N, "v3"), particle_couple=zeros(N, "v3"), block_energy=zeros(self.model.num_blocks),
                       partial_F=zeros(self.model.num_blocks, "v3"), partial_tau=zeros(self.model.num_blocks, "v3"),
