@@ -28,7 +28,7 @@ def _kernels(units):
     def place(model: M, state: S, scratch: C, reps: ti.i32):
         ti.loop_config(serialize=True)
         for _ in range(reps):
-            stages.note_motion(state, scratch)
+            stages.note_motion(state, scratch, False)
             stages.place_for_pairs(model, state, scratch, False)
 
     @ti.kernel

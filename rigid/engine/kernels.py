@@ -51,7 +51,7 @@ class EngineKernels:
             ``everything`` or a rebuild), and the neighbour lists rebuilt (grid and lists) if a
             particle may have moved half the skin since their last build."""
             if ti.static(pairs):
-                stages.note_motion(state, scratch)
+                stages.note_motion(state, scratch, parallel)
                 stages.place_for_pairs(model, state, scratch, everything)
                 grid.clear_and_count(scratch, state, neighbours.rebuild_gate(scratch))
                 if ti.static(parallel):

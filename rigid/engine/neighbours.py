@@ -3,10 +3,10 @@
 Rebuilding the grid and walking 27 cells every substep cost most of a many-body substep (the
 125-sphere pile: 14 candidates a particle, 74 % of them its own body's, 1.5 % in contact). So
 each particle keeps a list of the other bodies' particles within r_a + r_b + skin of it, made
-from the grid (grid.py, cells of the largest diameter + the skin) and reused until some
-particle has moved more than half the skin from where it was at the build: until then no pair
-can have closed from beyond reach + skin to within reach, so every pair in contact is in the
-list (Verlet 1967; the classic rebuild test, here bounded per body: note_body_motion). Own-body
+from the grid (grid.py, cells of the largest diameter + the skin) and reused until two
+particles may have closed by more than the skin since the build: until then no pair can have
+come from beyond reach + skin to within reach, so every pair in contact is in the
+list (Verlet 1967; the classic rebuild test, here on relative motion bounded per body: note_motion). Own-body
 candidates never enter the list. Only the particles with a candidate (the active list) are
 placed and visited by the pair stage between builds; the others' pair force stays zero.
 
@@ -20,8 +20,8 @@ positions (a superset of its list: exact, in the walk's fixed order): no contact
 Scratch arrays (ScratchArgs): ``nbr_count`` [N] i32, ``nbr_list`` [N·K] i32 (particle slots),
 ``build_x`` [N] vec3 (world positions at the last build), ``active`` [N] i32 (the slots with a
 candidate, first nbr_flags[2] of them), ``nbr_flags`` [3] i32 (1: rebuild at the next placement;
-builds so far; active particles), ``grid_params`` [1], [2] = the skin, the motion allowed before a
-rebuild (half the skin less 2 % for round-off); per body [B]: ``build_pose`` = its x (3) and R
+builds so far; active particles), ``grid_params`` [1], [2] = the skin, the relative motion allowed
+before a rebuild (the skin less 2 % for round-off); per body [B]: ``build_pose`` = its x (3) and R
 (9, row by row) at the last build and ρ_b, its largest |r0| (13 floats).
 """
 import taichi as ti
@@ -30,23 +30,48 @@ from . import grid
 
 NEIGHBOURS_PER_PARTICLE = 16  # list slots per particle; beyond, the particle walks the grid (exact)
 SKIN_FRACTION = 0.5  # skin = this × the largest particle diameter
-ALLOWED_MOTION = 0.49  # × the skin: a particle's motion before a rebuild (half, less 2 % for round-off)
+ALLOWED_MOTION = 0.98  # × the skin: two particles' relative motion before a rebuild (less 2 % for round-off)
 
 
 @ti.func
-def note_body_motion(scratch: ti.template(), state: ti.template(), b):
-    """Ask for a rebuild if a particle of body b may have moved more than half the skin since
-    the last build. Particle p = x + R r0 moved by |Δp| <= |Δx| + ‖ΔR‖_F |r0| <= |Δx| + ‖ΔR‖_F ρ_b
-    (ρ_b the body's largest |r0|): one test per body, not per particle, for any matrix R. A NaN
-    counts as moved; writers only ever store 1, so running in parallel is safe."""
+def _body_shift(scratch: ti.template(), state: ti.template(), b):
+    """(Δx of body b since the last build, ‖ΔR‖_F ρ_b)."""
     pose = scratch.build_pose[b]
     x, R = state.x[b], state.R[b]
     dx = ti.Vector([x[0] - pose[0], x[1] - pose[1], x[2] - pose[2]])
     frob2 = 0.0
     for r, c in ti.static(ti.ndrange(3, 3)):
         frob2 += (R[r, c] - pose[3 + 3 * r + c]) ** 2
-    bound = ti.sqrt(dx.dot(dx)) + ti.sqrt(frob2) * pose[12]
-    if not (bound <= scratch.grid_params[2]):
+    return dx, ti.sqrt(frob2) * pose[12]
+
+
+@ti.func
+def note_motion(scratch: ti.template(), state: ti.template()):
+    """Ask for a rebuild if two particles may have closed by more than the skin since the last
+    build (run on one thread: a fixed-order sum). A particle of body b moved by
+    Δx_b + ΔR_b r0, so for any common vector c, |Δpᵢ − Δpⱼ| <= e_a + e_b with
+    e_b = |Δx_b − c| + ‖ΔR_b‖_F ρ_b (ρ_b the body's largest |r0|; for any matrix R): the lists
+    hold while the two largest e sum to at most the skin. Distances do not change when every
+    body moves alike, so c is the bodies' mean Δx: a pile falling as one rebuilds nothing. A
+    NaN counts as moved."""
+    B = state.x.shape[0]
+    c = ti.Vector.zero(float, 3)
+    for b in range(B):
+        dx, _turn = _body_shift(scratch, state, b)
+        c += dx
+    c /= B
+    first, second = 0.0, 0.0
+    for b in range(B):
+        dx, turn = _body_shift(scratch, state, b)
+        e = (dx - c).norm() + turn
+        if not (e <= 1e30):
+            e = 1e30
+        if e > first:
+            second = first
+            first = e
+        elif e > second:
+            second = e
+    if not (first + second <= scratch.grid_params[2]):
         scratch.nbr_flags[0] = 1
 
 

@@ -59,10 +59,15 @@ def place_particles(model: ti.template(), state: ti.template()):
 
 
 @ti.func
-def note_motion(state: ti.template(), scratch: ti.template()):
-    """Stage 1a (bodies in contact): whether the neighbour lists must be rebuilt (neighbours.py)."""
-    for b in range(state.x.shape[0]):
-        neighbours.note_body_motion(scratch, state, b)
+def note_motion(state: ti.template(), scratch: ti.template(), parallel: ti.template()):
+    """Stage 1a (bodies in contact): whether the neighbour lists must be rebuilt (neighbours.py),
+    on one thread (a parallel kernel's top level would split its loops)."""
+    if ti.static(parallel):
+        ti.loop_config(serialize=True)
+        for _ in range(1):
+            neighbours.note_motion(scratch, state)
+    else:
+        neighbours.note_motion(scratch, state)
 
 
 @ti.func
