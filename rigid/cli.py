@@ -48,6 +48,8 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--gravity", **vec, help="gravity, m/s² (default 0 -9.8 0)")
     g.add_argument("--no-walls", dest="walls", action="store_false", default=None,
                    help="no floor and no walls: free flight")
+    g.add_argument("--no-sleep", dest="sleep", action="store_false", default=None,
+                   help="many bodies: never put bodies at rest to sleep (scene key sleep = false)")
     g.add_argument("--particles", choices=("vertex", "volume"),
                    help="particles at the mesh vertices (default) or filling its volume")
     g.add_argument("--grid", type=int, metavar="N", help=f"volume sampling: cells along the longest side, 2 to {MAX_GRID} (default {d.grid})")
@@ -105,7 +107,7 @@ def config_from_args(args: argparse.Namespace) -> SimConfig:
     for key in ("mesh", "scale", "position", "orientation", "initial_velocity", "initial_angular_velocity",
                 "gravity", "walls", "particles", "grid", "count", "dt", "integrator", "fp64", "arch", "seed",
                 "frames", "resolution", "particle_mass", "collision_stiffness", "velocity_damping_stiffness",
-                "friction_stiffness"):
+                "friction_stiffness", "sleep"):
         value = getattr(args, key)
         if value is not None and key in BODY_FLAGS and values.get("bodies"):
             raise UserError(f"{BODY_FLAGS[key]} sets one body, but {args.scene} has [[body]] tables; "

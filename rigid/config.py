@@ -48,6 +48,7 @@ class SimConfig:
     collision_stiffness: float = 1e4  # penalty spring, N/m per particle
     velocity_damping_stiffness: float = 1e3  # damping of the normal velocity, N s/m
     friction_stiffness: float = 0.1  # Coulomb coefficient: |f_t| <= mu |f_n|
+    sleep: bool = True  # many bodies: bodies at rest for a while sleep (rigid.engine.sleep)
     # time
     dt: float = 1e-3
     integrator: str = "euler"  # euler (the slides) | symplectic | rk4

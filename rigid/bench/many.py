@@ -1,7 +1,14 @@
-"""Many-body speed: the MuJoCo comparison pile, cost against particle count, 1,000 bodies.
+"""Many-body speed: the peers (PyBullet, MuJoCo), sleeping, the stage profile, the MuJoCo
+comparison pile, cost against particle count, 1,000 bodies.
 
-    python scripts/bench_many.py            # the full run (a few minutes on 2 cores)
-    python scripts/bench_many.py --quick    # a smoke run: small sizes (seconds)
+    python scripts/bench_many.py                  # the full run (~30 min on 2 cores)
+    python scripts/bench_many.py --quick          # a smoke run: small sizes (seconds)
+    python scripts/bench_many.py --only peers     # some sections (peers sleeping profile piles
+                                                  # scaling thousand); the JSON keeps the others
+
+0. rigid.bench.peers: the icosphere pile at 27, 125 and 1,000 bodies in this engine (sleeping on
+   and off), PyBullet and MuJoCo (same mesh, and sphere primitives), wall s per simulated s;
+   rigid.bench.sleeping: a settled pile's cost; rigid.bench.profile: where a substep's time goes.
 
 1. Piles of 125 and 27 spheres (assets/sphere.obj, 42 vertices, scale 0.15, vertex particles,
    a lattice above (0, -0.8, 0), Δt = 1e-3): this engine's time per substep and, if MuJoCo
@@ -24,6 +31,8 @@ import time
 from pathlib import Path
 
 import numpy as np
+
+from .many_markdown import markdown
 
 ROOT = Path(__file__).resolve().parents[2]
 PILE = dict(scale=0.15, position=(0.0, -0.8, 0.0), dt=1e-3)
@@ -203,49 +212,58 @@ def figure(points: list[dict], path: Path) -> None:
     plt.close(fig)
 
 
-def markdown(r: dict) -> str:
-    m, t = r["machine"], r["thousand"]
-    lines = ["# Many-body benchmark", "",
-             f"CPU, float32, {m['cpu_count']} CPUs, load average {m['loadavg_1_5_15']} (1/5/15 min) at the "
-             "start: other processes shared these cores during the run, so the times are noisy "
-             "and are reported, never asserted. Medians over repeats.", "",
-             "## Pile of vertex spheres (42 vertices, scale 0.15, Δt = 1e-3), side by side with MuJoCo", "",
-             "Repeats of the engine and MuJoCo alternate (same load, same stretch of simulated time, "
-             "from warm-up end to the last repeat: `simulated_s` in the JSON); MuJoCo's cost grows as the "
-             "pile settles and its contacts grow (per-repeat times in the JSON). Ratio < 1: the engine is faster.", "",
-             "| bodies | particles | engine µs/substep | MuJoCo µs/step | engine / MuJoCo |", "|---|---|---|---|---|"]
-    for key in ("pile_125", "pile_27"):
-        p = r.get(key)
-        if p:
-            mj = p.get("mujoco_us_per_step", "not installed")
-            lines.append(f"| {p['bodies']} | {p['particles']:,} | {p['engine_us_per_substep']:,} | {mj} | "
-                         f"{p.get('ratio_engine_over_mujoco', '-')} |")
-    lines += ["", "## Cost per substep against particle count (125 volume-sampled spheres)", "",
-              "![scaling](figures/many_scaling.png)", "",
-              "| particles | grid | path | µs/substep | ns per particle-substep |", "|---|---|---|---|---|"]
-    lines += [f"| {p['particles']:,} | {p['grid']} | {p['path']} | {p['us_per_substep']:,} | "
-              f"{p['ns_per_particle_substep']} |" for p in r["scaling"]]
-    lines += ["", "## 1,000 bodies", "",
-              f"{t['bodies']:,} volume spheres (scale {t['scale']}, grid {t['grid']}), {t['particles']:,} particles: "
-              f"{t['ms_per_frame']} ms per frame of {t['substeps_per_frame']} substeps = **{t['fps']} frames per "
-              "second** (engine only, headless, no drawing).", ""]
-    return "\n".join(lines)
+SECTIONS = ("peers", "sleeping", "profile", "piles", "scaling", "thousand")
 
 
-def run(out: Path, quick: bool = False) -> dict:
+def profiles(units, quick: bool) -> dict:
+    """The stage profile (rigid.bench.profile) of the peers' 125 and 1,000 sphere piles at 1 s."""
+    from rigid.engine.simulator import Simulator
+
+    from .peers import scene
+    from .profile import profile
+    out = {}
+    for count in ((27,) if quick else (125, 1000)):
+        config, bodies = scene(count)
+        sim = Simulator(config.replace(sleep=False), units, bodies=bodies, schedule="serial")
+        out[f"{count} spheres"] = profile(sim, settle_frames=6 if quick else 60, reps=5 if quick else 100)
+        print(f"  {count} spheres: {out[f'{count} spheres']['per_substep_us']}", flush=True)
+    return out
+
+
+def run(out: Path, quick: bool = False, sections=SECTIONS) -> dict:
+    """Run ``sections`` (default all) and write bench_many.json/.md; with fewer sections, the
+    others are kept from the JSON already there."""
+    from . import peers, sleeping
+
     (out := Path(out)).mkdir(parents=True, exist_ok=True)
-    report = dict(quick=quick, machine=machine())
+    path = out / "bench_many.json"
+    report = json.loads(path.read_text()) if set(sections) != set(SECTIONS) and path.exists() else {}
+    report.update(quick=quick, machine=machine())
     units = _setup()
-    for count in ((27,) if quick else (125, 27)):
-        print(f"pile of {count} spheres", flush=True)
-        pile(units, count, quick, report)
-    print("scaling", flush=True)
-    targets = (1_000,) if quick else (1_000, 4_000, 16_000, 64_000, 256_000, 1_000_000)
-    report["scaling"] = scaling(units, targets, max_build_s=60.0)
-    print("1,000 bodies", flush=True)
-    report["thousand"] = thousand(units, quick)
+    if "peers" in sections:
+        print("side by side with PyBullet and MuJoCo", flush=True)
+        report["peer_versions"] = peers.versions()
+        report["peers"] = peers.compare(units, counts=(27,) if quick else (27, 125, 1000), seconds=0.1 if quick else 3.0,
+                                        repeats={27: 1} if quick else None)
+    if "sleeping" in sections and not quick:
+        print("sleeping", flush=True)
+        report["sleeping"] = sleeping.settled_cost(units)
+    if "profile" in sections and not quick:  # (its kernels would compile for a smoke run)
+        print("profile", flush=True)
+        report["profile"] = profiles(units, quick)
+    if "piles" in sections:
+        for count in ((27,) if quick else (125, 27)):
+            print(f"pile of {count} spheres", flush=True)
+            pile(units, count, quick, report)
+    if "scaling" in sections:
+        print("scaling", flush=True)
+        targets = (1_000,) if quick else (1_000, 4_000, 16_000, 64_000, 256_000, 1_000_000)
+        report["scaling"] = scaling(units, targets, max_build_s=60.0)
+        figure(report["scaling"], out / "figures" / "many_scaling.png")
+    if "thousand" in sections:
+        print("1,000 bodies", flush=True)
+        report["thousand"] = thousand(units, quick)
     report["machine"]["loadavg_1_5_15_at_end"] = [round(x, 2) for x in os.getloadavg()]
-    figure(report["scaling"], out / "figures" / "many_scaling.png")
-    (out / "bench_many.json").write_text(json.dumps(report, indent=2) + "\n")
-    (out / "bench_many.md").write_text(markdown(report))
+    path.write_text(json.dumps(report, indent=2) + "\n")
+    (out / "bench_many.md").write_text(markdown(report))  # many_markdown.py
     return report

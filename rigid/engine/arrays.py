@@ -17,8 +17,8 @@ State and World are documented in model.py and state.py, the grid's arrays in gr
 rest of ScratchArgs, per particle slot [N] (world frame): ``particle_f`` the pair force,
 ``particle_couple`` the pairs' couple about the particle; per block [K]: ``block_energy`` its
 springs' energy (at a frame's end), ``partial_F``, ``partial_tau`` its share of F and τ
-(about the body's centre of mass); per body [B]: ``rk_base``, ``rk_sum`` RK4's
-Y₀ and weighted sum of its stages (x, q, P, L packed in 13 numbers). RowArgs: rows.py.
+(about the body's centre of mass); [2B]: ``rk`` RK4's Y₀ (slots 0..B−1) and the weighted sum of
+its stages (slots B..2B−1), x, q, P, L packed in 13 numbers. RowArgs: rows.py.
 """
 from __future__ import annotations
 
@@ -41,7 +41,8 @@ def host_float():
 def _element(kind: str):
     f = float_dtype()
     return {"f": f, "i": ti.i32, "v3": ti.types.vector(3, f), "v4": ti.types.vector(4, f),
-            "v13": ti.types.vector(13, f), "m3": ti.types.matrix(3, 3, f)}[kind]
+            "v13": ti.types.vector(13, f), "m3": ti.types.matrix(3, 3, f),
+            "v3i": ti.types.vector(3, ti.i32)}[kind]
 
 
 def _pack_type(members: dict):
@@ -65,15 +66,16 @@ ModelArgs = _pack_type(dict(
 
 StateArgs = _pack_type(dict(
     x=("v3", 1), q=("v4", 1), P=("v3", 1), L=("v3", 1), v=("v3", 1), omega=("v3", 1),
-    R=("m3", 1), inertia_inv=("m3", 1), particle_x=("v3", 1), particle_v=("v3", 1)))
+    R=("m3", 1), inertia_inv=("m3", 1), particle_x=("v3", 1), particle_v=("v3", 1), sleep=("v3i", 1)))
 
 WorldArgs = _pack_type(dict(values=("f", 1), planes=("v4", 1)))
 
 ScratchArgs = _pack_type(dict(
     particle_f=("v3", 1), particle_couple=("v3", 1), block_energy=("f", 1), partial_F=("v3", 1), partial_tau=("v3", 1),
-    cell_count=("i", 1), cell_start=("i", 1), cell_cursor=("i", 1), particle_cell=("i", 1),
-    sorted_particle=("i", 1), sorted_x=("v3", 1), sorted_body=("i", 1), chunk_total=("i", 1), grid_dims=("i", 1), grid_inv_cell=("f", 1),
-    rk_base=("v13", 1), rk_sum=("v13", 1)))
+    cell_count=("i", 1), cell_start=("i", 1), particle_cell=("i", 1),
+    sorted_particle=("i", 1), sorted_x=("v3", 1), sorted_body=("i", 1), chunk_total=("i", 1), grid_dims=("i", 1), grid_params=("f", 1),
+    nbr_count=("i", 1), nbr_list=("i", 1), build_x=("v3", 1), nbr_flags=("i", 1), active=("i", 1), build_pose=("v13", 1),
+    rk=("v13", 1)))
 
 RowArgs = _pack_type(dict(body=("f", 3), contact_energy=("f", 1)))
 

@@ -1,7 +1,8 @@
-"""A uniform grid over the particles, rebuilt every substep by a counting sort (bodies in contact).
+"""A uniform grid over the particles, built by a counting sort (bodies in contact) whenever the
+neighbour lists (neighbours.py) are rebuilt.
 
-Cells are cubes of side h = the largest particle diameter, so two particles that touch lie
-in the same or adjacent cells. The grid has D³ cells (D a power of two, D³ about twice the
+Cells are cubes of side h = the largest particle diameter + the lists' skin, so two particles
+within reach + skin lie in the same or adjacent cells. The grid has D³ cells (D a power of two, D³ about twice the
 particle count) and wraps: a particle at p lies in cell ⌊p/h⌋ mod D on each axis, so the world
 needs no bounds and far-apart particles sharing a wrapped cell only cost a distance test.
 Every particle goes in its cell: no cap per cell (Harada's GPU Gems 3 grid keeps 4 a cell and
@@ -16,10 +17,10 @@ Build (taichi_dem's count / prefix sum / scatter):
 Neighbours of a particle: the 3 × 3 rows of 3 cells around it; a row's three cells are
 consecutive in memory unless it wraps, so it is one range of sorted_particle.
 
-Scratch arrays (ScratchArgs): ``cell_count``, ``cell_cursor`` [C] i32, ``cell_start`` [C + 1] i32,
+Scratch arrays (ScratchArgs): ``cell_count`` [C] i32 (then the scatter's cursors), ``cell_start`` [C + 1] i32,
 ``particle_cell``, ``sorted_particle`` [N] i32, and in that sorted order copies of each particle's
 ``sorted_x`` [N] vec3 (world) and ``sorted_body`` [N] i32, ``grid_dims`` = (D, C, scan chunks) i32,
-``grid_inv_cell`` = (1/h,) float. ``GridShape`` sizes them on the host.
+``grid_params`` = (1/h, ...) float (neighbours.py uses the rest). ``GridShape`` sizes them on the host.
 """
 
 from dataclasses import dataclass
@@ -29,10 +30,18 @@ import taichi as ti
 from .scan import CHUNK, scan_parallel, scan_serial
 
 
-def grid_dimension(num_particles: int) -> int:
-    """Cells per axis: the power of two with D³ >= 2 N, at least 8 and at most 256."""
+SPAN_MAX_DIM = 64  # the box's span alone never asks for more than 64³ cells
+
+
+def grid_dimension(num_particles: int, span_cells: float = 0.0) -> int:
+    """Cells per axis: the power of two with D³ >= 2 N, at least 8 and at most 256, and at least
+    the box's span in cells (up to SPAN_MAX_DIM): a small scene's grid then does not wrap inside
+    the box, where wrapped cells would bring far particles in as candidates. The grid is built
+    only when the neighbour lists are, so a few more cells cost little."""
     d = 8
     while d * d * d < 2 * num_particles and d < 256:
+        d *= 2
+    while d < span_cells and d < SPAN_MAX_DIM:
         d *= 2
     return d
 
@@ -46,8 +55,9 @@ class GridShape:
     num_chunks: int
 
     @classmethod
-    def for_particles(cls, num_particles: int, pairs: bool) -> "GridShape":
-        dim = grid_dimension(num_particles) if pairs else 1
+    def for_particles(cls, num_particles: int, pairs: bool, span_cells: float = 0.0) -> "GridShape":
+        """``span_cells``: the box's width in cells (0: no walls)."""
+        dim = grid_dimension(num_particles, span_cells) if pairs else 1
         cells = dim ** 3
         return cls(dim, cells, max(1, (cells + CHUNK - 1) // CHUNK))
 
@@ -55,7 +65,7 @@ class GridShape:
 @ti.func
 def cell_coords(s: ti.template(), p):
     """Integer cell coordinates (unwrapped) of a world point."""
-    return ti.floor(p * s.grid_inv_cell[0], ti.i32)
+    return ti.floor(p * s.grid_params[0], ti.i32)
 
 
 @ti.func
@@ -76,7 +86,7 @@ def count_particle(s: ti.template(), state: ti.template(), i):
 
 @ti.func
 def scatter_particle(s: ti.template(), i):
-    slot = ti.atomic_add(s.cell_cursor[s.particle_cell[i]], 1)
+    slot = ti.atomic_add(s.cell_count[s.particle_cell[i]], 1)
     s.sorted_particle[slot] = i
 
 
@@ -102,22 +112,27 @@ def gather_sorted(s: ti.template(), model: ti.template(), state: ti.template(), 
     s.sorted_body[k] = model.particle_body[i]
 
 
+# A build is clear and count (``count_particle`` for every particle), then finish_*. The
+# neighbour lists (neighbours.py) rebuild the grid only when they need it: every loop of a
+# build runs over ``size * gate`` items (gate 0 or 1, read from the device), so that in a
+# parallel kernel it stays a top-level (parallel) loop and costs nothing when gate is 0.
+
 @ti.func
-def clear_counts(s: ti.template()):
-    for c in range(s.grid_dims[1]):
+def clear_and_count(s: ti.template(), state: ti.template(), gate):
+    for c in range(s.grid_dims[1] * gate):
         s.cell_count[c] = 0
+    for i in range(state.particle_x.shape[0] * gate):
+        count_particle(s, state, i)
 
-
-# A build is clear_counts, then count_particle for every particle (the engine fuses it into
-# the loop that places the particles: one pass, one parallel task less), then finish_*.
 
 @ti.func
-def finish_serial(s: ti.template(), model: ti.template(), state: ti.template()):
+def finish_serial(s: ti.template(), model: ti.template(), state: ti.template(), gate):
     """The rest of the build on one thread: scattering in slot order leaves every cell sorted."""
-    C, N = s.grid_dims[1], state.particle_x.shape[0]
-    scan_serial(s.cell_count, s.cell_start, C)
+    C, N = s.grid_dims[1] * gate, state.particle_x.shape[0] * gate
+    if gate:
+        scan_serial(s.cell_count, s.cell_start, C)
     for c in range(C):
-        s.cell_cursor[c] = s.cell_start[c]
+        s.cell_count[c] = s.cell_start[c]  # the counts are summed: reuse them as cursors
     for i in range(N):
         scatter_particle(s, i)
     for k in range(N):
@@ -125,16 +140,15 @@ def finish_serial(s: ti.template(), model: ti.template(), state: ti.template()):
 
 
 @ti.func
-def finish_parallel(s: ti.template(), model: ti.template(), state: ti.template()):
+def finish_parallel(s: ti.template(), model: ti.template(), state: ti.template(), gate):
     """The rest of the build as top-level loops of a kernel (each runs in parallel); each cell is
     then sorted by slot and its copies gathered."""
-    C, N = s.grid_dims[1], state.particle_x.shape[0]
-    scan_parallel(s.cell_count, s.cell_start, s.chunk_total, C, s.grid_dims[2])
-    for c in range(C):
-        s.cell_cursor[c] = s.cell_start[c]
-    for i in range(N):
+    scan_parallel(s.cell_count, s.cell_start, s.chunk_total, s.grid_dims[1] * gate, s.grid_dims[2] * gate)
+    for c in range(s.grid_dims[1] * gate):
+        s.cell_count[c] = s.cell_start[c]  # the counts are summed: reuse them as cursors
+    for i in range(state.particle_x.shape[0] * gate):
         scatter_particle(s, i)
-    for c in range(C):
+    for c in range(s.grid_dims[1] * gate):
         sort_cell(s, c)
         for k in range(s.cell_start[c], s.cell_start[c + 1]):
             gather_sorted(s, model, state, k)

@@ -14,7 +14,7 @@ Two schedules run the same stages (stages.py), chosen by schedule.py:
 
 import taichi as ti
 
-from . import frontend, grid, schemes, stages
+from . import frontend, grid, neighbours, schemes, sleep, stages
 from .arrays import ModelArgs, RowArgs, ScratchArgs, StateArgs, SurfaceArgs, WorldArgs
 from .matvec import matvec
 from .state import DT
@@ -42,17 +42,33 @@ class EngineKernels:
         u = units
         M, S, W, C, Rw, Sf = ModelArgs(), StateArgs(), WorldArgs(), ScratchArgs(), RowArgs(), SurfaceArgs()
         rk4 = scheme == "rk4"
+        sleeping = pairs and not rk4  # bodies may sleep (sleep.py): many bodies, Euler or symplectic
         update = schemes.symplectic_update if scheme == "symplectic" else schemes.euler_update
 
         @ti.func
-        def place_all(model: ti.template(), state: ti.template(), scratch: ti.template(), parallel: ti.template()):
-            """Stages 1-2: every particle placed, and the grid built when bodies collide."""
+        def place_all(model: ti.template(), state: ti.template(), scratch: ti.template(), parallel: ti.template(),
+                      everything: ti.template()):
+            """Stages 1-2: the particles placed (when bodies collide: the active ones, unless
+            ``everything`` or a rebuild), and the neighbour lists rebuilt (grid and lists) if a
+            particle may have moved half the skin since their last build."""
             if ti.static(pairs):
-                stages.place_particles_in_grid(model, state, scratch)
+                stages.note_motion(state, scratch, parallel)
+                stages.place_for_pairs(model, state, scratch, everything)
+                grid.clear_and_count(scratch, state, neighbours.rebuild_gate(scratch))
                 if ti.static(parallel):
-                    grid.finish_parallel(scratch, model, state)
+                    grid.finish_parallel(scratch, model, state, neighbours.rebuild_gate(scratch))
                 else:
-                    grid.finish_serial(scratch, model, state)
+                    grid.finish_serial(scratch, model, state, neighbours.rebuild_gate(scratch))
+                neighbours.start_build(scratch)
+                for i in range(state.particle_x.shape[0] * neighbours.rebuild_gate(scratch)):
+                    neighbours.clear_list(scratch, i)
+                for i in range(state.particle_x.shape[0] * neighbours.rebuild_gate(scratch)):
+                    neighbours.build_list(model, state, scratch, i)
+                for i in range(state.particle_x.shape[0] * neighbours.rebuild_gate(scratch)):
+                    neighbours.finish_list(state, scratch, i)
+                for b in range(state.x.shape[0] * neighbours.rebuild_gate(scratch)):
+                    neighbours.keep_build_pose(scratch, state, b)
+                neighbours.clear_flag(scratch)
             else:
                 stages.place_particles(model, state)
 
@@ -61,13 +77,26 @@ class EngineKernels:
                    parallel: ti.template()):
             """Stages 1-3: the pair forces (when bodies collide), then each block's forces and shares."""
             if ti.static(pairs):
-                place_all(model, state, scratch, parallel)
-                for c in range(state.particle_x.shape[0]):
-                    # In parallel, in cell order (neighbours close in memory); serially in slot order.
-                    i = scratch.sorted_particle[c] if ti.static(parallel) else c
-                    stages.pair_stage(model, state, world, scratch, i)
+                place_all(model, state, scratch, parallel, False)
+                for t in range(neighbours.num_active(scratch)):  # each writes its own slot: any order
+                    i = scratch.active[t]
+                    if ti.static(sleeping):  # awake bodies; they mark the sleepers a moving one touches
+                        if not sleep.asleep(state, model.particle_body[i]):
+                            stages.pair_stage(model, state, world, scratch, i, True)
+                    else:
+                        stages.pair_stage(model, state, world, scratch, i, False)
+                if ti.static(sleeping):
+                    for t in range(neighbours.num_active(scratch)):  # the sleepers woken just now
+                        i = scratch.active[t]
+                        b = model.particle_body[i]
+                        if sleep.asleep(state, b) and not sleep.resting(state, b):
+                            stages.pair_stage(model, state, world, scratch, i, False)
             for k in range(model.block_start.shape[0]):
-                stages.block_forces(u, model, state, world, scratch, k, pairs)
+                if ti.static(sleeping):
+                    if not sleep.resting(state, model.block_body[k]):
+                        stages.block_forces(u, model, state, world, scratch, k, pairs)
+                else:
+                    stages.block_forces(u, model, state, world, scratch, k, pairs)
 
         @ti.func
         def substep_stages(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(),
@@ -95,8 +124,17 @@ class EngineKernels:
             else:
                 forces(model, state, world, scratch, parallel)
                 for b in range(state.x.shape[0]):
-                    F, tau = stages.body_wrench(model, scratch, b)
-                    update(u, model, state, b, dt, F, tau)
+                    if ti.static(sleeping):
+                        if not sleep.resting(state, b):
+                            sleep.begin_update(state, b)
+                            F, tau = stages.body_wrench(model, scratch, b)
+                            update(u, model, state, b, dt, F, tau)
+                            if sleep.end_update(state, world, scratch, b):  # at rest from now on
+                                zero = ti.Vector.zero(float, 3)
+                                schemes.store(u, model, state, b, state.x[b], state.q[b], zero, zero, state.R[b])
+                    else:
+                        F, tau = stages.body_wrench(model, scratch, b)
+                        update(u, model, state, b, dt, F, tau)
 
         @ti.kernel
         def run_frames(model: M, state: S, world: W, scratch: C, rows: Rw, frames: ti.i32, substeps: ti.i32):
@@ -105,7 +143,7 @@ class EngineKernels:
             for frame in range(frames):
                 for _step in range(substeps):
                     substep_stages(model, state, world, scratch, False)
-                place_all(model, state, scratch, False)
+                place_all(model, state, scratch, False, True)
                 energy = 0.0
                 for k in range(model.block_start.shape[0]):
                     energy += stages.block_contact_energy(model, state, world, scratch, k, pairs)
@@ -117,7 +155,7 @@ class EngineKernels:
 
         @ti.kernel
         def finish_frame(model: M, state: S, world: W, scratch: C, rows: Rw, slot: ti.i32):
-            place_all(model, state, scratch, True)
+            place_all(model, state, scratch, True, True)
             for k in range(model.block_start.shape[0]):  # the blocks in parallel, summed in order below
                 scratch.block_energy[k] = stages.block_contact_energy(model, state, world, scratch, k, pairs)
             ti.loop_config(serialize=True)
@@ -142,6 +180,7 @@ class EngineKernels:
             ti.loop_config(serialize=True)
             for _ in range(1):
                 schemes.impulse(u, model, state, i, J)
+                sleep.wake(state, model.particle_body[i])
             stages.place_particles(model, state)
 
         @ti.kernel

@@ -21,7 +21,7 @@ def scan_parallel(counts: ti.template(), starts: ti.template(), chunk_total: ti.
             total += counts[c]
         chunk_total[k + 1] = total
     ti.loop_config(serialize=True)
-    for _ in range(1):  # (2) one thread: running sum of the chunk totals
+    for _ in range(ti.min(num_chunks, 1)):  # (2) one thread: running sum of the chunk totals (none for size 0)
         chunk_total[0] = 0
         for k in range(num_chunks):
             chunk_total[k + 1] += chunk_total[k]

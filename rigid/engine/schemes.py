@@ -73,8 +73,8 @@ def _store13(u: ti.template(), model: ti.template(), state: ti.template(), b, y)
 
 @ti.func
 def rk4_begin(state: ti.template(), scratch: ti.template(), b):
-    scratch.rk_base[b] = _pack13(state.x[b], state.q[b], state.P[b], state.L[b])
-    scratch.rk_sum[b] = ti.Vector.zero(float, 13)
+    scratch.rk[b] = _pack13(state.x[b], state.q[b], state.P[b], state.L[b])
+    scratch.rk[state.x.shape[0] + b] = ti.Vector.zero(float, 13)
 
 
 @ti.func
@@ -86,15 +86,15 @@ def rk4_stage(u: ti.template(), model: ti.template(), state: ti.template(), scra
     q_dot = 0.5 * quaternion_multiplication(ti.Vector([0.0, w[0], w[1], w[2]]), state.q[b])
     k = _pack13(state.v[b], q_dot, F, tau)
     weight = RK4_WEIGHTS[0] if stage == 0 or stage == 3 else RK4_WEIGHTS[1]
-    scratch.rk_sum[b] += weight * k
+    scratch.rk[state.x.shape[0] + b] += weight * k
     if stage < 3:
         node = RK4_NODES[1] if stage < 2 else RK4_NODES[3]  # c_{s+1}
-        _store13(u, model, state, b, scratch.rk_base[b] + (node * dt) * k)
+        _store13(u, model, state, b, scratch.rk[b] + (node * dt) * k)
 
 
 @ti.func
 def rk4_finish(u: ti.template(), model: ti.template(), state: ti.template(), scratch: ti.template(), b, dt):
-    y = scratch.rk_base[b] + (dt / 6.0) * scratch.rk_sum[b]
+    y = scratch.rk[b] + (dt / 6.0) * scratch.rk[state.x.shape[0] + b]
     q = ti.Vector([y[3], y[4], y[5], y[6]])
     q = q / q.norm()
     store(u, model, state, b, ti.Vector([y[0], y[1], y[2]]), q, ti.Vector([y[7], y[8], y[9]]),

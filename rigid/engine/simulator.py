@@ -17,6 +17,7 @@ import taichi as ti
 
 from ..bodies.mesh import BodyGeometry
 from ..bodies.placement import BodySpec, check_inside_box, scene_bodies
+from . import neighbours
 from .arrays import ScratchArgs, device_array, host_float, zeros
 from .grab import default_spring, holding, released
 from .grid import GridShape
@@ -69,20 +70,36 @@ class Simulator:
 
     def _scratch(self, B: int, N: int, pairs: bool):
         """The arrays a substep rewrites (forces, partial sums, the grid, RK4)."""
-        shape = GridShape.for_particles(N, pairs)
-        cell = 2.0 * max(float(self.model.radius_np.max()), 1e-6)
+        diameter = 2.0 * max(float(self.model.radius_np.max()), 1e-6)
+        skin = neighbours.SKIN_FRACTION * diameter
+        cell = diameter + skin
+        span = 2.0 * self.config.wall / cell + 2 if self.config.walls else 0.0
+        shape = GridShape.for_particles(N, pairs, span)
+        lists = N * neighbours.NEIGHBOURS_PER_PARTICLE if pairs else 1
         arrays = dict(particle_f=zeros(N, "v3"), particle_couple=zeros(N, "v3"), block_energy=zeros(self.model.num_blocks),
                       partial_F=zeros(self.model.num_blocks, "v3"), partial_tau=zeros(self.model.num_blocks, "v3"),
                       cell_count=zeros(shape.num_cells, "i"), cell_start=zeros(shape.num_cells + 1, "i"),
-                      cell_cursor=zeros(shape.num_cells, "i"), particle_cell=zeros(N, "i"),
+                      particle_cell=zeros(N, "i"),
                       sorted_particle=zeros(N, "i"), sorted_x=zeros(N if pairs else 1, "v3"),
                       sorted_body=zeros(N if pairs else 1, "i"), chunk_total=zeros(shape.num_chunks + 1, "i"),
                       grid_dims=device_array(np.array([shape.dim, shape.num_cells, shape.num_chunks]), dtype=ti.i32),
-                      grid_inv_cell=device_array(np.array([1.0 / cell])),
-                      rk_base=zeros(B, "v13"), rk_sum=zeros(B, "v13"))
+                      grid_params=device_array(np.array([1.0 / cell, skin, neighbours.ALLOWED_MOTION * skin])),
+                      nbr_count=zeros(N if pairs else 1, "i"), nbr_list=zeros(lists, "i"),
+                      build_x=zeros(N if pairs else 1, "v3"), nbr_flags=zeros(3, "i"),
+                      active=zeros(N if pairs else 1, "i"), build_pose=device_array(self._build_pose(), 13),
+                      rk=zeros(2 * B, "v13"))
         self.grid_shape, self.cell_size = shape, cell
         self._scratch_arrays = arrays
         self.scratch = ScratchArgs()(**{name: arrays[name] for name in ScratchArgs.NAMES})
+
+    def _build_pose(self) -> np.ndarray:
+        """(B, 13) the neighbour lists' pose per body (set at each build), with ρ_b, the body's
+        largest particle offset |r0| (rounded up), in its last slot (neighbours.py)."""
+        m = self.model
+        norms = np.linalg.norm(m.r0_np, axis=1)
+        pose = np.zeros((m.num_bodies, 13))
+        pose[:, 12] = [norms[s:s + c].max() * (1 + 1e-6) + 1e-9 for s, c in zip(m.body_start_np, m.body_count_np)]
+        return pose
 
     # -- sizes ------------------------------------------------------------------------------
     @property
@@ -103,19 +120,31 @@ class Simulator:
         """Substeps per frame for the current Δt (a window's slider may change Δt)."""
         return max(1, int((1.0 / 60.0) // self.params.dt))
 
+    @property
+    def neighbour_builds(self) -> int:
+        """How many times the neighbour lists were built (benchmarks: rebuilds per substep)."""
+        return int(self._scratch_arrays["nbr_flags"].to_numpy()[1])
+
+    def neighbour_counts(self) -> np.ndarray:
+        """(N,) candidates in each particle's list at its last build (slot order; benchmarks)."""
+        return self._scratch_arrays["nbr_count"].to_numpy()
+
     # -- state ------------------------------------------------------------------------------
     def reset(self):
         """Back to the initial state of the bodies; the model is kept (no mesh reload)."""
         self.time = 0.0
         self.frame = 0
         self.release()
+        self._scratch_arrays["nbr_flags"][0] = 1  # the next placement builds the neighbour lists
+        self.state.sleep.fill(0)  # every body awake
+        self._params_version = self.params.version
         b = self.bodies
         self.kernels.init_bodies(self.model.args, self.state.args,
                                  *(np.array([getattr(body, key) for body in b], np.float64)
                                    for key in ("position", "orientation", "velocity", "angular_velocity")))
 
     # Changing these needs no new model: they are runtime parameters or initial conditions.
-    RUNTIME_KEYS = frozenset(Params.NAMES) | {"gravity", "walls", "position", "initial_velocity",
+    RUNTIME_KEYS = frozenset(Params.NAMES) | {"gravity", "walls", "sleep", "position", "initial_velocity",
                                                "initial_angular_velocity", "frames", "seed"}
     PLACEMENT_KEYS = frozenset({"position", "initial_velocity", "initial_angular_velocity", "seed"})
 
@@ -188,6 +217,8 @@ class Simulator:
     def _run(self, frames: int, substeps: int):
         """``frames`` frames of ``substeps`` substeps, rows 0 .. frames − 1 written."""
         launch = self._prepared_launches()
+        if self._params_version != self.params.version:  # a runtime parameter changed: wake every body
+            self.wake()
         if self.schedule == "serial":
             launch["run_frames"](frames=frames, substeps=substeps)
             return
@@ -208,6 +239,21 @@ class Simulator:
                 self._launches = dict(substep=PreparedLaunch(k.substep, m, s, w, c),
                                       finish_frame=PreparedLaunch(k.finish_frame, m, s, w, c, r, 0))
         return self._launches
+
+    def wake(self, bodies=None):
+        """Wake bodies (all by default; an index or a list of indices) that sleep (sleep.py): a
+        grab or any outside push should call this for the body it moves."""
+        self._params_version = self.params.version
+        if bodies is None:
+            self.state.sleep.fill(0)
+            return
+        sleep = self.state.sleep.to_numpy()
+        sleep[np.atleast_1d(np.asarray(bodies, int))] = 0
+        self.state.sleep.from_numpy(sleep)
+
+    def asleep(self) -> np.ndarray:
+        """(B,) bool: which bodies sleep now (at rest, not integrated; the window greys them)."""
+        return self.state.sleep.to_numpy()[:, 0] != 0
 
     def apply_impulse(self, particle: int, impulse):
         """Hit particle ``particle`` (its index in the mesh files' order, body after body) with
@@ -230,6 +276,7 @@ class Simulator:
         self.params.grab_values = holding(int(self.model.slot_of[particle]), target, k, c)
         self.params.upload()
         self.grabbed = int(particle)
+        self.wake(body)  # a held body must move (sleep.py)
 
     def release(self):
         """Let go of the grabbed particle (nothing if none is held)."""

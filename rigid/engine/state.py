@@ -24,8 +24,10 @@ from .arrays import StateArgs, WorldArgs, host_float, zeros
 from .grab import GRAB_FIRST, GRAB_VALUES, released
 
 # Slots of WorldArgs.values (then the mouse's grab, grab.py, from GRAB_FIRST on).
-DT, STIFFNESS, DAMPING, FRICTION, GX, GY, GZ, NUM_PLANES = range(8)
+DT, STIFFNESS, DAMPING, FRICTION, GX, GY, GZ, NUM_PLANES, SLEEP_SPEED, SLEEP_STEPS = range(10)
 NUM_VALUES = GRAB_FIRST + GRAB_VALUES
+SLEEP_SPEED_DEFAULT = 0.05  # m/s: sleeping (sleep.py) below this speed bound of a body's particles ...
+SLEEP_TIME_DEFAULT = 0.5  # ... for this long, s
 MAX_PLANES = 16
 
 
@@ -37,6 +39,7 @@ class State:
             setattr(self, name, zeros(B, kind))
         self.particle_x = zeros(N, "v3")
         self.particle_v = zeros(N, "v3")
+        self.sleep = zeros(B, "v3i")  # (asleep, quiet substeps, woken): sleep.py
         self.args = StateArgs()(**{name: getattr(self, name) for name in StateArgs.NAMES})
 
 
@@ -59,12 +62,14 @@ class Params:
             setattr(self, name, float(getattr(config, name)))
         self.gravity = np.asarray(config.gravity, np.float64)
         self.walls = bool(config.walls)
+        self.sleep = bool(getattr(config, "sleep", True))
+        self.sleep_speed, self.sleep_time = SLEEP_SPEED_DEFAULT, SLEEP_TIME_DEFAULT
         self._loading = False
         self.upload()
 
     def __setattr__(self, name, value):
         object.__setattr__(self, name, value)
-        if name in self.NAMES or name in ("gravity", "walls"):
+        if name in self.NAMES or name in ("gravity", "walls", "sleep", "sleep_speed", "sleep_time"):
             if name == "gravity":
                 object.__setattr__(self, name, np.asarray(value, np.float64).reshape(3))
             if not getattr(self, "_loading", True):
@@ -86,6 +91,9 @@ class Params:
         values[GX:GZ + 1] = self.gravity
         values[NUM_PLANES] = len(planes)
         values[GRAB_FIRST:GRAB_FIRST + GRAB_VALUES] = self.grab_values
+        values[SLEEP_SPEED] = self.sleep_speed if self.sleep else 0.0
+        values[SLEEP_STEPS] = max(1, round(self.sleep_time / self.dt))
+        self.version = getattr(self, "version", 0) + 1  # the Simulator wakes every body on a change
         self.values.from_numpy(values.astype(host))
         padded = np.zeros((MAX_PLANES, 4))
         padded[:len(planes)] = planes
