@@ -15,6 +15,7 @@ import tomllib
 from dataclasses import dataclass, field, fields
 from pathlib import Path
 
+from .bodies.colliders import MATERIAL_KEYS, check_material, check_plane, check_plane_count, check_static
 from .errors import UserError
 
 REPO_ROOT = Path(__file__).resolve().parent.parent
@@ -48,6 +49,11 @@ class SimConfig:
     collision_stiffness: float = 1e4  # penalty spring, N/m per particle
     velocity_damping_stiffness: float = 1e3  # damping of the normal velocity, N s/m
     friction_stiffness: float = 0.1  # Coulomb coefficient: |f_t| <= mu |f_n|
+    # materials and static colliders (rigid.bodies.colliders): None = unset (the three keys above rule)
+    restitution: float | None = None  # coefficient of restitution e, 0..1: sets each contact's damping
+    friction: float | None = None  # Coulomb mu with static friction (a tangential spring at each contact)
+    planes: tuple = ()  # [[plane]] tables: point, normal, friction, restitution
+    statics: tuple = ()  # [[static]] tables: mesh, scale, position, orientation, friction, restitution
     # time
     dt: float = 1e-3
     integrator: str = "euler"  # euler (the slides) | symplectic | rk4
@@ -83,6 +89,14 @@ class SimConfig:
             raise UserError(f"[[body]] {index + 1}: {err}") from None
 
     @property
+    def materials(self) -> bool:
+        """Whether the scene uses the material contact (restitution, friction, [[plane]] or
+        [[static]] anywhere); without, the contact is the handout's (rigid.engine.contact)."""
+        tables = (self, *self.bodies, *self.planes, *self.statics)
+        return bool(self.planes or self.statics) or any(
+            (t.get(k) if isinstance(t, dict) else getattr(t, k)) is not None for t in tables for k in MATERIAL_KEYS)
+
+    @property
     def substeps(self) -> int:
         """Substeps per rendered frame: int(1/60 // dt), as the handout does (16 at 1e-3)."""
         return max(1, int(FRAME_TIME // self.dt))
@@ -106,6 +120,10 @@ class SimConfig:
             _positive("particle_radius", self.particle_radius)
         if not isinstance(self.count, int) or isinstance(self.count, bool) or not 1 <= self.count <= 1_000_000:
             raise UserError(f"count = {self.count!r}: use a whole number of copies from 1 to 1000000")
+        check_material("", dict(restitution=self.restitution, friction=self.friction))
+        object.__setattr__(self, "planes", tuple(check_plane(i, p) for i, p in enumerate(self.planes)))
+        object.__setattr__(self, "statics", tuple(check_static(i, t) for i, t in enumerate(self.statics)))
+        check_plane_count(self.planes, self.walls)
         for i in range(len(self.bodies)):
             self.body_config(i)  # raises "[[body]] i: ..." for a bad value in that table
         if self.dt > FRAME_TIME:
@@ -129,10 +147,10 @@ class SimConfig:
         return self
 
 
-SCENE_KEYS = {f.name for f in fields(SimConfig)} - {"bodies"} | {"body"}
+SCENE_KEYS = {f.name for f in fields(SimConfig)} - {"bodies", "planes", "statics"} | {"body", "plane", "static"}
 # Keys a [[body]] table may set; at the top level they are every body's defaults.
 BODY_KEYS = {"mesh", "scale", "position", "orientation", "initial_velocity", "initial_angular_velocity",
-             "particle_mass", "particles", "grid", "particle_radius", "count"}
+             "particle_mass", "particles", "grid", "particle_radius", "count", *MATERIAL_KEYS}
 _VECTOR_KEYS = {"position", "initial_velocity", "initial_angular_velocity", "gravity", "resolution",
                 "orientation"}
 
@@ -180,6 +198,15 @@ def load_scene(path: str | Path) -> dict:
         close = difflib.get_close_matches(unknown[0], SCENE_KEYS, n=1)
         hint = f"did you mean {close[0]!r}?" if close else "known keys: " + ", ".join(sorted(SCENE_KEYS))
         raise UserError(f"scene file {path}: unknown key {unknown[0]!r}; {hint}")
+    planes, statics = data.pop("plane", []), data.pop("static", [])
+    for name, given in (("plane", planes), ("static", statics)):
+        if not isinstance(given, list) or not all(isinstance(t, dict) for t in given):
+            raise UserError(f"scene file {path}: '{name}' must be [[{name}]] tables")
+    if planes:
+        data["planes"] = tuple(planes)
+    if statics:
+        data["statics"] = tuple({**t, "mesh": resolve_mesh(path, t["mesh"])} if isinstance(t.get("mesh"), str)
+                                else t for t in statics)
     tables = data.pop("body", [])
     if not isinstance(tables, list) or not all(isinstance(b, dict) for b in tables):
         raise UserError(f"scene file {path}: 'body' must be [[body]] tables, one per body")
@@ -224,7 +251,7 @@ def _check_type(path, key, value, default, where=""):
         want = "a list of numbers, e.g. [0.0, 1.0, 0.0]"
     elif key in ("frames", "count"):
         ok, want = isinstance(value, int) and not isinstance(value, bool), "a whole number"
-    elif key == "particle_radius":
+    elif key in ("particle_radius", *MATERIAL_KEYS):
         ok, want = _is_number(value), "a number (metres)"
     elif isinstance(default, bool):
         ok, want = isinstance(value, bool), "true or false"

@@ -14,7 +14,7 @@ Two schedules run the same stages (stages.py), chosen by schedule.py:
 
 import taichi as ti
 
-from . import grid, schemes, stages
+from . import grid, material_stages, schemes, stages
 from .arrays import ModelArgs, RowArgs, ScratchArgs, StateArgs, SurfaceArgs, WorldArgs
 from .matvec import matvec
 from .state import DT
@@ -23,21 +23,22 @@ from .rows import write_row
 _CACHE: dict = {}
 
 
-def engine_kernels(units, scheme: str, pairs: bool) -> "EngineKernels":
+def engine_kernels(units, scheme: str, pairs: bool, materials: bool = False) -> "EngineKernels":
     """The kernels for ``units`` (an object with the 7 TODO ``ti.func``s), ``scheme`` ("euler",
     "symplectic", "rk4") and whether bodies collide with one another (``pairs``: the grid and
     pair stages are compiled only for scenes that need them, which halves a lone body's
-    compile time), compiled on first use in this process."""
-    key = (id(units), scheme, bool(pairs))
+    compile time) and whether the scene sets materials or static colliders (``materials``:
+    material_stages.py's force stages), compiled on first use in this process."""
+    key = (id(units), scheme, bool(pairs), bool(materials))
     entry = _CACHE.get(key)
     if entry is None or entry.units is not units:
-        entry = _CACHE[key] = EngineKernels(units, scheme, bool(pairs))
+        entry = _CACHE[key] = EngineKernels(units, scheme, bool(pairs), bool(materials))
     return entry
 
 
 class EngineKernels:
-    def __init__(self, units, scheme: str, pairs: bool):
-        self.units, self.scheme, self.pairs = units, scheme, pairs
+    def __init__(self, units, scheme: str, pairs: bool, materials: bool = False):
+        self.units, self.scheme, self.pairs, self.materials = units, scheme, pairs, materials
         u = units
         M, S, W, C, Rw, Sf = ModelArgs(), StateArgs(), WorldArgs(), ScratchArgs(), RowArgs(), SurfaceArgs()
         rk4 = scheme == "rk4"
@@ -57,16 +58,35 @@ class EngineKernels:
 
         @ti.func
         def forces(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(),
-                   parallel: ti.template()):
-            """Stages 1-3: the pair forces (when bodies collide), then each block's forces and shares."""
+                   parallel: ti.template(), weight: ti.template()):
+            """Stages 1-3: the pair forces (when bodies collide), then each block's forces and shares
+            (``weight``: the share of Δt this evaluation's force acts for, for the sticking springs)."""
             if ti.static(pairs):
                 place_all(model, state, scratch, parallel)
                 for c in range(state.particle_x.shape[0]):
                     # In parallel, in cell order (neighbours close in memory); serially in slot order.
                     i = scratch.sorted_particle[c] if ti.static(parallel) else c
-                    stages.pair_stage(model, state, world, scratch, i)
+                    if ti.static(materials):
+                        material_stages.pair_stage(model, state, world, scratch, i)
+                    else:
+                        stages.pair_stage(model, state, world, scratch, i)
             for k in range(model.block_start.shape[0]):
-                stages.block_forces(u, model, state, world, scratch, k, pairs)
+                if ti.static(materials):
+                    material_stages.block_forces(u, model, state, world, scratch, k, pairs,
+                                                 weight * world.values[DT])
+                else:
+                    stages.block_forces(u, model, state, world, scratch, k, pairs)
+
+        @ti.func
+        def body_step(model: ti.template(), state: ti.template(), scratch: ti.template(), b, dt):
+            """Stage 4 for body b: its wrench and the scheme's update (a static body: its contacts only)."""
+            F, tau = stages.body_wrench(model, scratch, b)
+            if ti.static(materials):
+                material_stages.count_contacts(model, state, scratch, b)
+                if not material_stages.is_static(model, b):
+                    update(u, model, state, b, dt, F, tau)
+            else:
+                update(u, model, state, b, dt, F, tau)
 
         @ti.func
         def substep_stages(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(),
@@ -78,17 +98,25 @@ class EngineKernels:
                 for b in range(state.x.shape[0]):
                     schemes.rk4_begin(state, scratch, b)
                 for stage in ti.static(range(4)):
-                    forces(model, state, world, scratch, parallel)
+                    forces(model, state, world, scratch, parallel, schemes.RK4_WEIGHTS[stage] / 6.0)
                     for b in range(state.x.shape[0]):
                         F, tau = stages.body_wrench(model, scratch, b)
-                        schemes.rk4_stage(u, model, state, scratch, b, dt, F, tau, stage)
+                        if ti.static(materials):
+                            material_stages.count_contacts(model, state, scratch, b)
+                            if not material_stages.is_static(model, b):
+                                schemes.rk4_stage(u, model, state, scratch, b, dt, F, tau, stage)
+                        else:
+                            schemes.rk4_stage(u, model, state, scratch, b, dt, F, tau, stage)
                 for b in range(state.x.shape[0]):
-                    schemes.rk4_finish(u, model, state, scratch, b, dt)
+                    if ti.static(materials):
+                        if not material_stages.is_static(model, b):
+                            schemes.rk4_finish(u, model, state, scratch, b, dt)
+                    else:
+                        schemes.rk4_finish(u, model, state, scratch, b, dt)
             else:
-                forces(model, state, world, scratch, parallel)
+                forces(model, state, world, scratch, parallel, 1.0)
                 for b in range(state.x.shape[0]):
-                    F, tau = stages.body_wrench(model, scratch, b)
-                    update(u, model, state, b, dt, F, tau)
+                    body_step(model, state, scratch, b, dt)
 
         @ti.kernel
         def run_frames(model: M, state: S, world: W, scratch: C, rows: Rw, frames: ti.i32, substeps: ti.i32):

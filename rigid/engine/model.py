@@ -19,6 +19,8 @@ is the run's precision, f32 or f64), all read-only during a run:
 - ``block_centre``       [K] vec3   centre of the block's particles' bounding sphere, body frame
 - ``block_reach``        [K] float  that sphere's radius (it holds every particle centre), m
 - ``body_block_start``, ``body_block_count``  [B] i32  body b's blocks, consecutive
+- ``body_material``      [B] vec4   (Coulomb μ, restitution e, 1 if static else 0, 0): materials.py,
+                                    −1 for an unset μ or e; a static mesh has infinite mass, is not integrated
 
 The drawn meshes (``surface``, for windows, videos and exports) are not read by a substep:
 ``surface_r0`` [V] vec3 (body frame about the centre of mass), ``surface_body`` [V] i32 and
@@ -39,6 +41,7 @@ import taichi as ti
 
 from .arrays import ModelArgs, SurfaceArgs, device_array, float_dtype, host_float
 from .blocks import block_layout, block_size_for
+from .materials import friction_value
 
 
 @dataclass
@@ -51,6 +54,9 @@ class BodyParts:
     particle_mass: float
     radius: float = 0.0
     name: str = "body"
+    restitution: float | None = None  # e, None: unset (velocity_damping_stiffness)
+    friction: float | None = None  # Coulomb μ, None: unset (friction_stiffness)
+    static: bool = False  # a [[static]] mesh: never moves (rigid.engine.material_stages)
 
 
 class Model:
@@ -98,6 +104,10 @@ class Model:
         # Rounded up, so that the float copy never under-covers its block.
         reach = layout["block_reach"].astype(np.float64)
         self.block_reach = device_array(np.nextafter(reach.astype(host_float()), np.inf))
+
+        self.static_np = np.array([bool(b.static) for b in bodies])
+        self.body_material = device_array(np.array([(friction_value(b.friction), friction_value(b.restitution),
+                                                     float(b.static), 0.0) for b in bodies]), 4)
 
         self._surfaces(bodies, coms)
         self.args = ModelArgs()(**{name: getattr(self, name) for name in ModelArgs.NAMES})

@@ -16,7 +16,9 @@ import numpy as np
 import taichi as ti
 
 from ..bodies.mesh import BodyGeometry
+from ..bodies.overlap import check_start
 from ..bodies.placement import BodySpec, check_inside_box, scene_bodies
+from ..bodies.statics import static_bodies
 from .arrays import ScratchArgs, device_array, host_float, zeros
 from .grid import GridShape
 from .kernels import engine_kernels
@@ -49,15 +51,18 @@ class Simulator:
                                np.asarray(config.initial_velocity, float),
                                np.asarray(config.initial_angular_velocity, float))]
         self.bodies = scene_bodies(config) if bodies is None else list(bodies)
+        self.bodies += static_bodies(config, self.bodies)
         if config.walls:
-            check_inside_box(self.bodies, config.floor, config.wall, use_radius=True)
-        self.kernels = engine_kernels(units, config.integrator, pairs=len(self.bodies) > 1)
+            check_inside_box([b for b in self.bodies if not b.static], config.floor, config.wall, use_radius=True)
+        check_start(config, self.bodies)  # no body behind a [[plane]] or inside another
+        materials = config.materials
+        self.kernels = engine_kernels(units, config.integrator, pairs=len(self.bodies) > 1, materials=materials)
         parts = [BodyParts(b.geometry.particles, b.geometry.vertices, b.geometry.faces, b.particle_mass,
-                           b.radius, b.name) for b in self.bodies]
+                           b.radius, b.name, b.restitution, b.friction, b.static) for b in self.bodies]
         self.model = Model(parts, self.kernels)
         B, N = self.model.num_bodies, self.model.num_particles
         pairs = B > 1
-        self.state = State(B, N)
+        self.state = State(B, N, materials)
         self.params = Params(config)
         self.rows = FrameRows(B)
         self._scratch(B, N, pairs)
@@ -78,7 +83,8 @@ class Simulator:
                       sorted_body=zeros(N if pairs else 1, "i"), chunk_total=zeros(shape.num_chunks + 1, "i"),
                       grid_dims=device_array(np.array([shape.dim, shape.num_cells, shape.num_chunks]), dtype=ti.i32),
                       grid_inv_cell=device_array(np.array([1.0 / cell])),
-                      rk_base=zeros(B, "v13"), rk_sum=zeros(B, "v13"))
+                      rk_base=zeros(B, "v13"), rk_sum=zeros(B, "v13"),
+                      contacts=zeros(N + 2 * self.model.num_blocks + 2 * B if self.config.materials else 1, "i"))
         self.grid_shape, self.cell_size = shape, cell
         self._scratch_arrays = arrays
         self.scratch = ScratchArgs()(**{name: arrays[name] for name in ScratchArgs.NAMES})
@@ -107,6 +113,8 @@ class Simulator:
         """Back to the initial state of the bodies; the model is kept (no mesh reload)."""
         self.time = 0.0
         self.frame = 0
+        self.state.clear_contacts()
+        self._scratch_arrays["contacts"].fill(0)
         b = self.bodies
         self.kernels.init_bodies(self.model.args, self.state.args,
                                  *(np.array([getattr(body, key) for body in b], np.float64)
@@ -139,10 +147,12 @@ class Simulator:
                 return
             raise ValueError("this Simulator was built from a list of bodies: build a new one to move them")
         bodies = scene_bodies(self.config)
+        bodies += static_bodies(self.config, bodies)
         if [len(b.geometry.particles) for b in bodies] != [len(b.geometry.particles) for b in self.bodies]:
             raise ValueError("the changed config places other bodies: build a new Simulator")
         if self.config.walls:
-            check_inside_box(bodies, self.config.floor, self.config.wall, use_radius=True)
+            check_inside_box([b for b in bodies if not b.static], self.config.floor, self.config.wall, use_radius=True)
+        check_start(self.config, bodies)
         self.bodies = bodies
 
     # -- stepping ---------------------------------------------------------------------------

@@ -20,23 +20,34 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..bodies import colliders
 from .arrays import StateArgs, WorldArgs, host_float, zeros
+from .materials import damping_table, friction_value
 
 # Slots of WorldArgs.values.
 DT, STIFFNESS, DAMPING, FRICTION, GX, GY, GZ, NUM_PLANES = range(8)
 NUM_VALUES = 8
-MAX_PLANES = 16
+MAX_PLANES = colliders.MAX_PLANES
+MATERIAL_TABLE = 4 * MAX_PLANES  # WorldArgs.materials: the planes' materials, then the damping table
 
 
 class State:
-    def __init__(self, num_bodies: int, num_particles: int):
+    def __init__(self, num_bodies: int, num_particles: int, materials: bool = False):
         B, N = num_bodies, num_particles
         kinds = dict(x="v3", q="v4", P="v3", L="v3", v="v3", omega="v3", R="m3", inertia_inv="m3")
         for name, kind in kinds.items():
             setattr(self, name, zeros(B, kind))
         self.particle_x = zeros(N, "v3")
         self.particle_v = zeros(N, "v3")
+        # Materials only (material_stages.py): each particle's tangential spring on each plane
+        # [N·MAX_PLANES] vec3 (world, m).
+        self.plane_slip = zeros(N * MAX_PLANES if materials else 1, "v3")
         self.args = StateArgs()(**{name: getattr(self, name) for name in StateArgs.NAMES})
+
+
+    def clear_contacts(self) -> None:
+        """Forget the contacts' memory (a reset): no spring stretched."""
+        self.plane_slip.fill(0)
 
 
 class Params:
@@ -46,7 +57,11 @@ class Params:
     def __init__(self, config):
         self.values = zeros(NUM_VALUES)
         self.planes = zeros(MAX_PLANES, "v4")
-        self.args = WorldArgs()(values=self.values, planes=self.planes)
+        # ``materials``: each plane's (μ, e, 0, 0) (−1: unset) at 4j, then (materials only) the
+        # scheme's materials.damping_table from MATERIAL_TABLE (0.6 s to make: not without materials)
+        self.table = damping_table(config.integrator).reshape(-1) if config.materials else np.zeros(0)
+        self.materials = zeros(MATERIAL_TABLE + len(self.table))
+        self.args = WorldArgs()(values=self.values, planes=self.planes, materials=self.materials)
         self._loading = True
         self.load(config)
 
@@ -57,6 +72,14 @@ class Params:
             setattr(self, name, float(getattr(config, name)))
         self.gravity = np.asarray(config.gravity, np.float64)
         self.walls = bool(config.walls)
+        # [[plane]] tables (n, offset n·point), and every plane's material (μ, ζ): the box's
+        # from the top level, a table's own or the top level's.
+        self.extra_planes = [list(p["normal"]) + [float(np.dot(p["normal"], p["point"]))] for p in config.planes]
+        top = dict(restitution=config.restitution, friction=config.friction)
+        material = lambda t: (friction_value(t.get("friction")), friction_value(t.get("restitution")), 0.0, 0.0)
+        self.box_material = material(top)
+        self.extra_materials = [material({**top, **{k: v for k, v in p.items() if v is not None}})
+                                for p in config.planes]
         self._loading = False
         self.upload()
 
@@ -70,10 +93,12 @@ class Params:
 
     def plane_list(self) -> np.ndarray:
         """The static planes (n, 4): normal (into the free side) and offset n·p, in force order."""
+        extra = np.array(getattr(self, "extra_planes", []), np.float64).reshape(-1, 4)
         if not self.walls:
-            return np.zeros((0, 4))
+            return extra
         f, w = self.floor, self.wall
-        return np.array([[0, 1, 0, f], [1, 0, 0, -w], [-1, 0, 0, -w], [0, 0, 1, -w], [0, 0, -1, -w]], np.float64)
+        box = np.array([[0, 1, 0, f], [1, 0, 0, -w], [-1, 0, 0, -w], [0, 0, 1, -w], [0, 0, -1, -w]], np.float64)
+        return np.concatenate([box, extra])
 
     def upload(self) -> None:
         host = host_float()
@@ -87,3 +112,8 @@ class Params:
         padded = np.zeros((MAX_PLANES, 4))
         padded[:len(planes)] = planes
         self.planes.from_numpy(padded.astype(host))
+        material = np.zeros((MAX_PLANES, 4))
+        if len(planes):
+            rows = [self.box_material] * (5 if self.walls else 0) + list(self.extra_materials)
+            material[:len(planes)] = np.array(rows)
+        self.materials.from_numpy(np.concatenate([material.reshape(-1), self.table]).astype(host))
