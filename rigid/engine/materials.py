@@ -46,8 +46,10 @@ memory of its contacts.
 Pair rules (contract: the README states them, as Box2D's b2MixRestitution / b2MixFriction):
 e = max(e_a, e_b) (a bouncy ball bounces on any floor; ζ = min(ζ_a, ζ_b), ζ falling with e),
 μ = √(μ_a μ_b) (equal values give themselves back; a frictionless side makes the pair so).
-An unset restitution (no key anywhere) keeps ``velocity_damping_stiffness`` as c (stored as
-ζ = −1), an unset friction ``friction_stiffness`` (μ = −1): both are read at run time.
+A side whose value is unset (no key on it nor at the top level; stored as −1) takes the other
+side's: a [[plane]] without friction is as rough as the body on it. Both unset: the
+restitution is ``velocity_damping_stiffness`` as c, the friction ``friction_stiffness``, read
+at run time as before.
 """
 
 import functools
@@ -106,15 +108,21 @@ def friction_value(value: float | None) -> float:
 
 @ti.func
 def pair_restitution(e_a, e_b):
-    """e = max(e_a, e_b); an unset side (−1) leaves the other's (both unset: −1)."""
+    """e = max(e_a, e_b); an unset side (−1) takes the other's (both unset: −1)."""
     return ti.max(e_a, e_b)
 
 
 @ti.func
 def pair_mu(mu_a, mu_b, mu_world):
-    """μ = √(μ_a μ_b), an unset side (−1) taking the world's friction_stiffness."""
-    a = mu_world if mu_a < 0 else mu_a
-    b = mu_world if mu_b < 0 else mu_b
+    """μ = √(μ_a μ_b); an unset side (−1) takes the other's μ, both unset the world's
+    friction_stiffness."""
+    a, b = mu_a, mu_b
+    if a < 0:
+        a = b
+    if b < 0:
+        b = a
+    if a < 0:
+        a, b = mu_world, mu_world
     return ti.sqrt(a * b)
 
 
@@ -200,5 +208,6 @@ def normal_damping(e, k, m_eff, dt, table: ti.template(), at: ti.template(), c_w
 
 @ti.func
 def sticking_damping(k, m_eff, dt):
-    """The tangential damper: critical for the contact's mass, within the step's limit."""
-    return ti.min(2.0 * ti.sqrt(k * m_eff), m_eff / dt)
+    """The tangential damper: critical for the contact's mass, within a quarter of the step's
+    limit (a corner's tangential mass, with the body's rotation, is well below M / n)."""
+    return ti.min(2.0 * ti.sqrt(k * m_eff), 0.25 * m_eff / dt)

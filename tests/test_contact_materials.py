@@ -1,0 +1,142 @@
+"""Restitution and friction a user sets (rigid.engine.materials), against closed forms.
+
+- five balls of e = 0.1 ... 0.9 side by side, thrown at the floor without gravity: each leaves
+  at e times its approach speed (the definition of e), vertex and volume particles;
+- e = 1 keeps the ball's energy within 1 %; two spheres head-on separate at e × approach speed;
+- a block sliding on the floor decelerates at μ g; a box on a 30° [[plane]] ramp slides at
+  g (sin θ − μ cos θ) with μ = 0.2 and stays put (< 1 mm in 2 s) with μ = 0.7 (tan θ < μ);
+- bodies that start overlapping, or behind a plane, are refused with one line.
+The damping ratio is ζ(e) of the clamped oscillator, inverted by bisection: checked here against
+scipy's integration of that oscillator (an outside reference).
+"""
+import math
+
+import numpy as np
+import pytest
+
+from conftest import ASSETS
+
+ES = (0.1, 0.3, 0.5, 0.7, 0.9)
+SPHERE, BOX = str(ASSETS / "sphere.obj"), str(ASSETS / "box.obj")
+
+
+@pytest.fixture(autouse=True)
+def _taichi(units):
+    """One Taichi runtime for the module (conftest)."""
+
+
+def _sim(**keys):
+    from rigid.config import SimConfig
+    from rigid.engine.simulator import Simulator
+
+    return Simulator(SimConfig(**keys).validate())
+
+
+def test_clamped_oscillator_restitution_matches_scipy():
+    from scipy.integrate import solve_ivp
+
+    from rigid.engine.materials import clamped_restitution, damping_ratio
+
+    for e in ES:
+        z = damping_ratio(e)
+
+        def rhs(t, y):
+            f = max(y[0] + 2 * z * y[1], 0.0)
+            return [y[1], -f]
+
+        leave = lambda t, y: y[0] + 2 * z * y[1]  # noqa: E731
+        leave.terminal, leave.direction = True, -1
+        sol = solve_ivp(rhs, [0, 50], [0.0, 1.0], events=leave, rtol=1e-10, atol=1e-12, max_step=0.01)
+        assert abs(-sol.y_events[0][0][1] - e) < 1e-6, e
+        assert abs(clamped_restitution(z) - e) < 1e-9
+
+
+@pytest.mark.parametrize("particles, integrator, dt", [("vertex", "euler", 1e-4), ("volume", "rk4", 1e-4)])
+def test_balls_leave_the_floor_at_e_times_their_speed(particles, integrator, dt):
+    bodies = tuple(dict(position=(-0.8 + 0.4 * i, -0.75, 0.0), restitution=e) for i, e in enumerate(ES))
+    sim = _sim(particles=particles, grid=8, scale=0.15, bodies=bodies, restitution=0.0, friction=0.0,
+               gravity=(0, 0, 0), initial_velocity=(0, -2.0, 0), collision_stiffness=1e5, particle_mass=0.01,
+               dt=dt, integrator=integrator)
+    sim.advance_frames(15)  # 0.25 s: each ball has hit the floor once and left
+    v = sim.snapshot()["v"][:, 1]
+    measured = v / 2.0
+    print(particles, integrator, dict(zip(ES, measured.round(4))))
+    assert np.all(np.abs(measured - np.array(ES)) < 0.03 * np.array(ES)), measured
+
+
+def test_elastic_ball_keeps_its_energy_and_dead_ball_stays():
+    bodies = (dict(position=(-0.4, -0.6, 0.0), restitution=1.0), dict(position=(0.4, -0.6, 0.0), restitution=0.0))
+    sim = _sim(scale=0.15, bodies=bodies, friction=0.0, collision_stiffness=1e5, particle_mass=0.01, dt=1e-4)
+    start = sim.snapshot()
+    y0 = start["x"][:, 1]
+    rows = sim.advance_frames(30)  # 0.5 s: one bounce of the elastic ball, which rises again
+    apex = rows["x"][:, 0, 1].max(initial=-9) if False else rows["x"][15:, 0, 1].max()
+    # Energy lost by the elastic ball in its bounce, from the apex (its speed there is ~0)
+    lost = (y0[0] - apex) / (y0[0] - (-1.0 + 0.15 + sim.model.radius_np[0]))
+    print("e = 1: fraction of the drop's energy lost", lost)
+    assert lost < 0.01
+    dead = rows["x"][:, 1, 1]
+    rest = dead[-1]
+    assert dead[np.argmin(dead):].max() - rest < 2e-3, "e = 0: no visible bounce"
+
+
+def test_head_on_spheres_separate_at_e_times_approach_speed():
+    e = 0.5
+    bodies = (dict(position=(-0.4, 0.0, 0.0), initial_velocity=(1.0, 0, 0)),
+              dict(position=(0.4, 0.0, 0.0), initial_velocity=(-1.0, 0, 0)))
+    sim = _sim(scale=0.15, particles="volume", grid=6, bodies=bodies, restitution=e, friction=0.0, walls=False,
+               gravity=(0, 0, 0), collision_stiffness=1e5, particle_mass=0.01, dt=1e-4, integrator="rk4")
+    sim.advance_frames(30)
+    v = sim.snapshot()["v"][:, 0]
+    print("head-on separation / approach", (v[1] - v[0]) / 2.0)
+    assert abs((v[1] - v[0]) / 2.0 - e) < 0.03 * e
+
+
+def test_block_sliding_decelerates_at_mu_g():
+    mu = 0.3
+    sim = _sim(mesh=BOX, scale=0.2, position=(0, -0.9, 0), initial_velocity=(3.0, 0, 0), friction=mu,
+               restitution=0.3, collision_stiffness=1e5, particle_mass=0.1, dt=2e-4, walls=False,
+               planes=(dict(point=(0, -1.0, 0), normal=(0, 1, 0)),))
+    sim.advance_frames(20)  # settle on the floor while sliding
+    a = sim.snapshot()
+    sim.advance_frames(30)
+    b = sim.snapshot()
+    decel = (a["v"][0][0] - b["v"][0][0]) / (b["t"] - a["t"])
+    print("sliding deceleration / mu g", decel / (mu * 9.8))
+    assert b["v"][0][0] > 0.1, "still sliding at the end of the measurement"
+    assert abs(decel - mu * 9.8) < 0.03 * mu * 9.8
+
+
+def test_box_on_a_30_degree_ramp():
+    theta = math.radians(30)
+    n = np.array([-math.sin(theta), math.cos(theta), 0.0])  # the ramp's normal: it rises toward -x
+    down = np.array([-math.cos(theta), -math.sin(theta), 0.0])
+    q = (math.cos(theta / 2), 0.0, 0.0, math.sin(theta / 2))  # the box turned to lie flat on the ramp
+    r = 0.005  # particle radius: the box rests on its corners' spheres
+    bodies = tuple(dict(position=tuple(np.array([0.0, 0.0, z]) + (0.1 + r + 1e-4) * n), orientation=q, friction=mu)
+                   for z, mu in ((-0.3, 0.2), (0.3, 0.7)))
+    sim = _sim(mesh=BOX, scale=0.2, bodies=bodies, particle_radius=r, restitution=0.3, walls=False,
+               collision_stiffness=1e5, particle_mass=0.1, dt=2e-4,
+               planes=(dict(point=(0.0, 0.0, 0.0), normal=tuple(n)),))
+    sim.advance_frames(12)  # 0.2 s: settled on the ramp
+    a = sim.snapshot()
+    sim.advance_frames(60)
+    b = sim.snapshot()
+    along = (b["v"] - a["v"]) @ down / (b["t"] - a["t"])
+    expected = 9.8 * (math.sin(theta) - 0.2 * math.cos(theta))
+    print("ramp: acceleration / g (sin - mu cos)", along[0] / expected)
+    assert abs(along[0] - expected) < 0.03 * expected
+    sim.advance_frames(60)
+    moved = np.linalg.norm(sim.snapshot()["x"][1] - a["x"][1])
+    print("ramp: mu = 0.7 box moved", moved, "m in 2 s")
+    assert moved < 1e-3
+
+
+def test_overlapping_bodies_and_bodies_behind_a_plane_are_refused():
+    from rigid.errors import UserError
+
+    two = (dict(mesh=BOX, position=(0.0, 0.0, 0.0)), dict(mesh=BOX, position=(0.1, 0.0, 0.0)))
+    with pytest.raises(UserError, match=r"body 1 \(box_0\) and body 2 \(box_1\) overlap by"):
+        _sim(scale=0.3, bodies=two, particles="volume", grid=4)
+    with pytest.raises(UserError, match=r"behind \[\[plane\]\] 1"):
+        _sim(scale=0.3, walls=False, planes=(dict(point=(0, 0.5, 0), normal=(0, 1, 0)),))
