@@ -229,7 +229,8 @@ def _check_table(path: Path, table: dict, where: str) -> dict:
     """Check the types of a table's keys (in place), resolve its mesh path, make vectors tuples."""
     defaults = SimConfig()
     for key, value in table.items():
-        _check_type(path, key, value, getattr(defaults, key), where)
+        if key not in ("planes", "statics"):  # [[plane]], [[static]]: rigid.bodies.colliders checks them
+            _check_type(path, key, value, getattr(defaults, key), where)
     if "mesh" in table:
         table["mesh"] = resolve_mesh(path, table["mesh"])
     for key in _VECTOR_KEYS & set(table):

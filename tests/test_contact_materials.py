@@ -140,3 +140,16 @@ def test_overlapping_bodies_and_bodies_behind_a_plane_are_refused():
         _sim(scale=0.3, bodies=two, particles="volume", grid=4)
     with pytest.raises(UserError, match=r"behind \[\[plane\]\] 1"):
         _sim(scale=0.3, walls=False, planes=(dict(point=(0, 0.5, 0), normal=(0, 1, 0)),))
+
+
+def test_ball_rolls_down_a_bowl_and_rests_at_its_bottom():
+    a, d = math.radians(40), 0.32  # on the bowl's side, 40° from its bottom
+    sim = _sim(scale=0.1, particle_radius=0.02, position=(d * math.sin(a), -d * math.cos(a), 0.0), restitution=0.2,
+               friction=0.5, walls=False, statics=(dict(mesh=str(ASSETS / "bowl.obj"), scale=0.5),))
+    assert sim.num_bodies == 2 and sim.model.static_np.tolist() == [False, True]
+    sim.advance_frames(240)  # 4 s
+    s = sim.snapshot()
+    assert np.allclose(s["x"][1], 0.0) and np.allclose(s["v"][1], 0.0), "the bowl never moves"
+    print("bowl: ball at", s["x"][0], "speed", np.linalg.norm(s["v"][0]))
+    assert np.hypot(s["x"][0][0], s["x"][0][2]) < 0.01, "at the bottom: on the bowl's axis"
+    assert np.linalg.norm(s["v"][0]) < 0.01, "at rest"

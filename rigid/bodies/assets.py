@@ -10,6 +10,7 @@ plain OBJ (``v`` and ``f`` lines only), so each vertex is one particle:
 - t_handle.obj  a T-handle (bar + stem, two boxes touching at a face): the intermediate-axis flip
 - torus.obj     torus, 64 x 64 = 4096 vertices: the ~4000-vertex mesh of the benchmarks
 - capsule.obj   a pill: it rolls on its side and rocks on its ends
+- bowl.obj      the lower half of a sphere of radius 1, open at the top: a [[static]] mesh
 """
 from pathlib import Path
 
@@ -26,6 +27,15 @@ def t_handle() -> trimesh.Trimesh:
     return trimesh.util.concatenate([bar, stem])
 
 
+def bowl() -> trimesh.Trimesh:
+    """The lower hemisphere of a unit icosphere (faces whose corners all lie at y <= 0), open."""
+    sphere = trimesh.creation.icosphere(subdivisions=3, radius=1.0)
+    keep = (sphere.vertices[sphere.faces][:, :, 1] <= 1e-9).all(axis=1)
+    mesh = trimesh.Trimesh(sphere.vertices, sphere.faces[keep], process=False)
+    mesh.remove_unreferenced_vertices()
+    return mesh
+
+
 def meshes() -> dict:
     return {
         "sphere": trimesh.creation.icosphere(subdivisions=1, radius=1.0),
@@ -37,6 +47,7 @@ def meshes() -> dict:
         "capsule": trimesh.creation.capsule(height=0.8, radius=0.25, count=(16, 16)),
         # A domino at its real size (scale 1): thin along x, tall along y, 4 x 20 x 10 cm.
         "domino": trimesh.creation.box(extents=(0.04, 0.2, 0.1)),
+        "bowl": bowl(),
     }
 
 

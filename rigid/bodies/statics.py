@@ -8,9 +8,9 @@ to export it (a node that never moves, in glTF and USD; the NPZ's last bodies, a
 
 Its particles: the surface, its triangles split until no edge is longer than the spacing h,
 then every vertex; each particle's radius is h, so neighbouring spheres overlap by half and
-leave no gap a particle could pass through (bumps of 0.13 h). h is the smallest radius of the
-scene's moving particles (their spheres roll over the bumps), or 1 % of the mesh's size if
-they have none. ``position`` is where the mesh file's origin goes and ``orientation`` turns
+leave no gap a particle could pass through (bumps of 0.13 h). h is 2.5 times the smallest
+radius of the scene's moving particles (bumps of a third of their radius, which they roll
+over; a finer h costs particles as 1/h²), or 1 % of the mesh's size if they have none. ``position`` is where the mesh file's origin goes and ``orientation`` turns
 the mesh about it (a static has no centre of mass to speak of).
 """
 from __future__ import annotations
@@ -25,6 +25,7 @@ from .placement import BodySpec
 from .quaternion import quaternion_to_matrix_np
 
 MAX_STATIC_PARTICLES = 400_000
+STATIC_SPACING = 2.5  # the static particles' spacing and radius, in the moving particles' smallest radius
 
 
 def static_bodies(config, bodies: list) -> list[BodySpec]:
@@ -35,7 +36,7 @@ def static_bodies(config, bodies: list) -> list[BodySpec]:
         where = f"[[static]] {index + 1}"
         mesh = read_mesh(table["mesh"], float(table.get("scale", 1.0)))
         size = float(np.ptp(mesh.vertices, axis=0).max())
-        h = min(moving) if moving else 0.01 * size
+        h = STATIC_SPACING * min(moving) if moving else 0.01 * size
         particles = surface_particles(mesh.vertices, mesh.faces, h, where)
         q = np.asarray(table.get("orientation", (1.0, 0.0, 0.0, 0.0)), float)
         q = q / np.linalg.norm(q)

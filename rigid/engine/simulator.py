@@ -250,12 +250,13 @@ class Simulator:
 
     def _block(self, times: list) -> dict:
         """The rows of the last launch, with the energies (float64, computed here, the same way for
-        every block: kinetic ½ P·v + ½ L·ω, potential −M g·x + the contact springs')."""
+        every block: kinetic ½ P·v + ½ L·ω, potential −M g·x of the moving bodies + the contact
+        springs')."""
         body, contact = self.rows.read(len(times), self.kernels)
         rows = split_rows(body)
         g = self.params.gravity
         P, v, L, omega, x = rows["P"], rows["v"], rows["L"], rows["omega"], rows["x"]
         k = len(times)
         kinetic = 0.5 * (P * v).reshape(k, -1).sum(axis=1) + 0.5 * (L * omega).reshape(k, -1).sum(axis=1)
-        potential = -((x @ g) @ self.model.body_mass_np) + contact
+        potential = -((x @ g) @ np.where(self.model.static_np, 0.0, self.model.body_mass_np)) + contact
         return dict(t=np.asarray(times, np.float64), **rows, kinetic_energy=kinetic, potential_energy=potential)
