@@ -9,7 +9,8 @@ Overlap of two bodies: the deepest overlap of two of their particles' spheres,
 r_a + r_b − |p_i − p_j| (one body's particles have radius 0 unless set: their centres).
 Up to ``TOLERANCE`` of the pair's reach r_a + r_b is let pass: touching at the start is not
 overlapping (a lattice of copies, a stack with its gaps, the meshes of one file side by side).
-The box's walls are checked by rigid.bodies.placement.check_inside_box.
+The meshes of one file (a GLB's nodes) are where the file puts them and are not checked against
+one another. The box's walls are checked by rigid.bodies.placement.check_inside_box.
 """
 from __future__ import annotations
 
@@ -40,6 +41,8 @@ def check_start(config, bodies) -> None:
     for a in range(len(bodies)):
         for b in range(a + 1, len(bodies)):
             if bodies[a].static and bodies[b].static:
+                continue
+            if bodies[a].group is not None and bodies[a].group == bodies[b].group:
                 continue
             if np.linalg.norm(centres[a] - centres[b]) >= reach[a] + reach[b]:
                 continue

@@ -47,6 +47,7 @@ class BodySpec:
     restitution: float | None = None  # the body's e and μ (rigid.bodies.colliders; None: unset)
     friction: float | None = None
     static: bool = False  # a [[static]] mesh (rigid.bodies.statics)
+    group: tuple | None = None  # (entry, copy) of the meshes one file places together
 
     @property
     def centre_of_mass(self) -> np.ndarray:
@@ -106,7 +107,7 @@ def scene_bodies(config) -> list[BodySpec]:
                 arm = R @ offset
                 bodies.append(BodySpec(f"{name}_{t.name}", t.geometry, t.particle_mass, t.radius, slot + arm, q,
                                        t.velocity + np.cross(t.angular_velocity, arm), t.angular_velocity,
-                                       body.restitution, body.friction))
+                                       body.restitution, body.friction, group=(entry, k)))
     if len(bodies) == 1:
         bodies[0].name = "body"
     return bodies
