@@ -51,7 +51,7 @@ def test_clamped_oscillator_restitution_matches_scipy():
         assert abs(clamped_restitution(z) - e) < 1e-9
 
 
-@pytest.mark.parametrize("particles, integrator, dt", [("vertex", "euler", 1e-4), ("volume", "rk4", 1e-4)])
+@pytest.mark.parametrize("particles, integrator, dt", [("vertex", "euler", 1e-4), ("volume", "euler", 1e-4)])
 def test_balls_leave_the_floor_at_e_times_their_speed(particles, integrator, dt):
     bodies = tuple(dict(position=(-0.8 + 0.4 * i, -0.75, 0.0), restitution=e) for i, e in enumerate(ES))
     sim = _sim(particles=particles, grid=8, scale=0.15, bodies=bodies, restitution=0.0, friction=0.0,
@@ -147,9 +147,10 @@ def test_ball_rolls_down_a_bowl_and_rests_at_its_bottom():
     sim = _sim(scale=0.1, particle_radius=0.02, position=(d * math.sin(a), -d * math.cos(a), 0.0), restitution=0.2,
                friction=0.5, walls=False, statics=(dict(mesh=str(ASSETS / "bowl.obj"), scale=0.5),))
     assert sim.num_bodies == 2 and sim.model.static_np.tolist() == [False, True]
+    bowl = sim.snapshot()["x"][1]
     sim.advance_frames(240)  # 4 s
     s = sim.snapshot()
-    assert np.allclose(s["x"][1], 0.0) and np.allclose(s["v"][1], 0.0), "the bowl never moves"
+    assert np.array_equal(s["x"][1], bowl) and np.all(s["v"][1] == 0), "the bowl never moves"
     print("bowl: ball at", s["x"][0], "speed", np.linalg.norm(s["v"][0]))
     assert np.hypot(s["x"][0][0], s["x"][0][2]) < 0.01, "at the bottom: on the bowl's axis"
     assert np.linalg.norm(s["v"][0]) < 0.01, "at rest"

@@ -70,6 +70,11 @@ class EngineKernels:
                         material_stages.pair_stage(model, state, world, scratch, i)
                     else:
                         stages.pair_stage(model, state, world, scratch, i)
+            if ti.static(materials):  # each body's plane contacts now, for its contacts' m_eff
+                for k in range(model.block_start.shape[0]):
+                    material_stages.count_plane_block(model, state, world, scratch, k)
+                for b in range(state.x.shape[0]):
+                    material_stages.sum_plane_counts(model, state, scratch, b)
             for k in range(model.block_start.shape[0]):
                 if ti.static(materials):
                     material_stages.block_forces(u, model, state, world, scratch, k, pairs,

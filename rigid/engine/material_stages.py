@@ -4,8 +4,9 @@ them runs the handout's law bit for bit as before).
 
 What differs from stages.py:
 - each contact's damper comes from the two sides' restitution and the mass it moves
-  (materials.py: c = 2 ζ' √(k m_eff), m_eff = M / n with n the body's contacts of the
-  previous force evaluation, in ``scratch.contacts`` (arrays.py): planes, pairs);
+  (materials.py: c = 2 ζ' √(k m_eff), m_eff = M / n with n the body's contacts: with the
+  planes counted before the forces (``count_plane_block``), with other bodies those of the
+  previous force evaluation; in ``scratch.contacts`` (arrays.py));
 - friction on the planes sticks: a tangential spring per (particle, plane), in
   ``state.plane_slip`` [N · MAX_PLANES] (zeroed where the particle is clear of the plane);
 - a static body (``model.body_material[b][2]`` = 1) gets no forces and is not integrated (kernels.py);
@@ -160,3 +161,35 @@ def count_contacts(model: ti.template(), state: ti.template(), scratch: ti.templ
         pairs += scratch.contacts[N + 2 * k + 1]
     scratch.contacts[N + 2 * K + 2 * b] = planes
     scratch.contacts[N + 2 * K + 2 * b + 1] = pairs
+
+
+@ti.func
+def count_plane_block(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(), k):
+    """Block k's particles touching the planes now (before the forces, so that a contact's first
+    substep already knows how many share the load: a lagged count of 0 would damp a flat landing
+    on n particles n/√n times too hard for that substep)."""
+    b = model.block_body[k]
+    count = 0
+    if not is_static(model, b):
+        near = planes_in_reach(model, state, world, k)
+        if near:
+            x, R, radius = state.x[b], state.R[b], model.particle_radius[b]
+            start = model.block_start[k]
+            for i in range(start, start + model.block_count[k]):
+                p = x + matvec(R, ti.Vector([model.r0_x[i], model.r0_y[i], model.r0_z[i]]))
+                for j in range(num_planes(world)):
+                    if near & (1 << j):
+                        plane = world.planes[j]
+                        if plane[3] + radius - ti.Vector([plane[0], plane[1], plane[2]]).dot(p) > 0:
+                            count += 1
+    scratch.contacts[state.particle_x.shape[0] + 2 * k] = count
+
+
+@ti.func
+def sum_plane_counts(model: ti.template(), state: ti.template(), scratch: ti.template(), b):
+    first = model.body_block_start[b]
+    N, K = state.particle_x.shape[0], model.block_start.shape[0]
+    planes = 0
+    for k in range(first, first + model.body_block_count[b]):
+        planes += scratch.contacts[N + 2 * k]
+    scratch.contacts[N + 2 * K + 2 * b] = planes
