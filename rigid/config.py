@@ -15,7 +15,6 @@ import tomllib
 from dataclasses import dataclass, field, fields
 from pathlib import Path
 
-from .bodies.colliders import MATERIAL_KEYS, check_material, check_plane, check_plane_count, check_static
 from .errors import UserError
 
 REPO_ROOT = Path(__file__).resolve().parent.parent
@@ -89,14 +88,6 @@ class SimConfig:
             raise UserError(f"[[body]] {index + 1}: {err}") from None
 
     @property
-    def materials(self) -> bool:
-        """Whether the scene uses the material contact (restitution, friction, [[plane]] or
-        [[static]] anywhere); without, the contact is the handout's (rigid.engine.contact)."""
-        tables = (self, *self.bodies, *self.planes, *self.statics)
-        return bool(self.planes or self.statics) or any(
-            (t.get(k) if isinstance(t, dict) else getattr(t, k)) is not None for t in tables for k in MATERIAL_KEYS)
-
-    @property
     def substeps(self) -> int:
         """Substeps per rendered frame: int(1/60 // dt), as the handout does (16 at 1e-3)."""
         return max(1, int(FRAME_TIME // self.dt))
@@ -120,10 +111,10 @@ class SimConfig:
             _positive("particle_radius", self.particle_radius)
         if not isinstance(self.count, int) or isinstance(self.count, bool) or not 1 <= self.count <= 1_000_000:
             raise UserError(f"count = {self.count!r}: use a whole number of copies from 1 to 1000000")
-        check_material("", dict(restitution=self.restitution, friction=self.friction))
-        object.__setattr__(self, "planes", tuple(check_plane(i, p) for i, p in enumerate(self.planes)))
-        object.__setattr__(self, "statics", tuple(check_static(i, t) for i, t in enumerate(self.statics)))
-        check_plane_count(self.planes, self.walls)
+        if self.restitution is not None and not (_is_number(self.restitution) and 0 <= self.restitution <= 1):
+            raise UserError(f"restitution = {self.restitution!r}: use a number from 0 (no bounce) to 1 (elastic)")
+        if self.friction is not None:  # [[plane]] and [[static]] tables: rigid.bodies.colliders
+            _non_negative("friction", self.friction)
         for i in range(len(self.bodies)):
             self.body_config(i)  # raises "[[body]] i: ..." for a bad value in that table
         if self.dt > FRAME_TIME:
@@ -147,6 +138,7 @@ class SimConfig:
         return self
 
 
+MATERIAL_KEYS = ("restitution", "friction")
 SCENE_KEYS = {f.name for f in fields(SimConfig)} - {"bodies", "planes", "statics"} | {"body", "plane", "static"}
 # Keys a [[body]] table may set; at the top level they are every body's defaults.
 BODY_KEYS = {"mesh", "scale", "position", "orientation", "initial_velocity", "initial_angular_velocity",

@@ -157,17 +157,19 @@ def test_ball_rolls_down_a_bowl_and_rests_at_its_bottom():
 
 
 def test_bad_material_and_plane_values_are_one_line(tmp_path):
+    from rigid.bodies.colliders import check_colliders
     from rigid.config import SimConfig, load_scene
     from rigid.errors import UserError
 
     for keys, message in ((dict(restitution=1.5), "restitution = 1.5: use a number from 0"),
+                          (dict(bodies=(dict(restitution=-0.1),)), "[[body]] 1: restitution = -0.1"),
                           (dict(friction=-1.0), "friction = -1.0: use zero or a positive"),
                           (dict(planes=(dict(point=(0, 0, 0), normal=(0, 0, 0)),)), "[[plane]] 1: normal"),
                           (dict(planes=(dict(point=(0, 0, 0)),)), "[[plane]] 1: needs 'normal'")):
         with pytest.raises(UserError) as err:
-            SimConfig(**keys).validate()
+            check_colliders(SimConfig(**keys).validate())
         assert str(err.value).startswith(message) and "\n" not in str(err.value), err.value
     scene = tmp_path / "s.toml"
     scene.write_text('[[plane]]\npoint = [0, -1, 0]\nnormal = [0, 1, 0]\nbounce = 1\n')
     with pytest.raises(UserError, match=r"\[\[plane\]\] 1: unknown key 'bounce'"):
-        SimConfig(**load_scene(scene)).validate()
+        check_colliders(SimConfig(**load_scene(scene)).validate())

@@ -12,18 +12,36 @@ Keys (contract, ../shared/DESIGN.md "materials and static colliders"):
 
 A pair combines its two values (rigid.engine.materials): e = max(e_a, e_b), μ = √(μ_a μ_b).
 
-Plain Python (no Taichi, no numpy at import): rigid.config parses the tables with these checks.
+Plain Python (no Taichi, no numpy at import). rigid.config reads the tables and checks the
+top-level values; ``check_colliders`` checks the tables (the Simulator calls it first).
 """
 from __future__ import annotations
 
 import math
 
+from ..config import MATERIAL_KEYS
 from ..errors import UserError
 
 MAX_PLANES = 16  # rigid.engine.state.MAX_PLANES: the box's five and up to eleven [[plane]] tables
-MATERIAL_KEYS = ("restitution", "friction")
 PLANE_KEYS = {"point", "normal", *MATERIAL_KEYS}
 STATIC_KEYS = {"mesh", "scale", "position", "orientation", *MATERIAL_KEYS}
+
+
+def uses_materials(config) -> bool:
+    """Whether the scene uses the material contact (restitution, friction, [[plane]] or
+    [[static]] anywhere); without, the contact is the handout's (rigid.engine.contact)."""
+    tables = (config, *config.bodies, *config.planes, *config.statics)
+    return bool(config.planes or config.statics) or any(
+        (t.get(k) if isinstance(t, dict) else getattr(t, k)) is not None for t in tables for k in MATERIAL_KEYS)
+
+
+def check_colliders(config):
+    """Check the [[plane]] and [[static]] tables (one UserError line), the planes' normals made unit
+    vectors in place; returns the config."""
+    object.__setattr__(config, "planes", tuple(check_plane(i, p) for i, p in enumerate(config.planes)))
+    object.__setattr__(config, "statics", tuple(check_static(i, t) for i, t in enumerate(config.statics)))
+    check_plane_count(config.planes, config.walls)
+    return config
 
 
 def check_material(where: str, table: dict) -> None:

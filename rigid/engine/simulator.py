@@ -16,6 +16,7 @@ import numpy as np
 import taichi as ti
 
 from ..bodies.mesh import BodyGeometry
+from ..bodies.colliders import check_colliders, uses_materials
 from ..bodies.overlap import check_start
 from ..bodies.placement import BodySpec, check_inside_box, scene_bodies
 from ..bodies.statics import static_bodies
@@ -43,6 +44,7 @@ class Simulator:
 
             units = default_units()
         check_units(units)
+        check_colliders(config)  # [[plane]] and [[static]] tables: one line for a bad one
         self.config, self.units = config, units
         self._bodies_from_config = bodies is None and geometry is None
         if geometry is not None:
@@ -55,7 +57,7 @@ class Simulator:
         if config.walls:
             check_inside_box([b for b in self.bodies if not b.static], config.floor, config.wall, use_radius=True)
         check_start(config, self.bodies)  # no body behind a [[plane]] or inside another
-        materials = config.materials
+        self.materials = materials = uses_materials(config)
         self.kernels = engine_kernels(units, config.integrator, pairs=len(self.bodies) > 1, materials=materials)
         parts = [BodyParts(b.geometry.particles, b.geometry.vertices, b.geometry.faces, b.particle_mass,
                            b.radius, b.name, b.restitution, b.friction, b.static) for b in self.bodies]
@@ -84,7 +86,7 @@ class Simulator:
                       grid_dims=device_array(np.array([shape.dim, shape.num_cells, shape.num_chunks]), dtype=ti.i32),
                       grid_inv_cell=device_array(np.array([1.0 / cell])),
                       rk_base=zeros(B, "v13"), rk_sum=zeros(B, "v13"),
-                      contacts=zeros(N + 2 * self.model.num_blocks + 2 * B if self.config.materials else 1, "i"))
+                      contacts=zeros(N + 2 * self.model.num_blocks + 2 * B if self.materials else 1, "i"))
         self.grid_shape, self.cell_size = shape, cell
         self._scratch_arrays = arrays
         self.scratch = ScratchArgs()(**{name: arrays[name] for name in ScratchArgs.NAMES})
@@ -130,7 +132,7 @@ class Simulator:
         fixed = sorted(set(changes) - self.RUNTIME_KEYS)
         if fixed:
             raise ValueError(f"{fixed} need a new Simulator (they change the model)")
-        self.config = self.config.replace(**changes).validate()
+        self.config = check_colliders(self.config.replace(**changes).validate())
         self.params.load(self.config)
         if set(changes) & self.PLACEMENT_KEYS:
             self._place_again()

@@ -59,7 +59,7 @@ class Params:
         self.planes = zeros(MAX_PLANES, "v4")
         # ``materials``: each plane's (μ, e, 0, 0) (−1: unset) at 4j, then (materials only) the
         # scheme's materials.damping_table from MATERIAL_TABLE (0.6 s to make: not without materials)
-        self.table = damping_table(config.integrator).reshape(-1) if config.materials else np.zeros(0)
+        self.table = damping_table(config.integrator).reshape(-1) if colliders.uses_materials(config) else np.zeros(0)
         self.materials = zeros(MATERIAL_TABLE + len(self.table))
         self.args = WorldArgs()(values=self.values, planes=self.planes, materials=self.materials)
         self._loading = True
