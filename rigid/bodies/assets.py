@@ -27,12 +27,24 @@ def t_handle() -> trimesh.Trimesh:
     return trimesh.util.concatenate([bar, stem])
 
 
-def bowl() -> trimesh.Trimesh:
-    """The lower hemisphere of a unit icosphere (faces whose corners all lie at y <= 0), open."""
-    sphere = trimesh.creation.icosphere(subdivisions=3, radius=1.0)
-    keep = (sphere.vertices[sphere.faces][:, :, 1] <= 1e-9).all(axis=1)
-    mesh = trimesh.Trimesh(sphere.vertices, sphere.faces[keep], process=False)
-    mesh.remove_unreferenced_vertices()
+def bowl(rings: int = 12, sectors: int = 40) -> trimesh.Trimesh:
+    """The lower half of a unit sphere, open at the top: a pole at y = −1, ``rings`` rings of
+    ``sectors`` vertices up to the equator y = 0 (the rim), triangles facing outward."""
+    vertices = [(0.0, -1.0, 0.0)]
+    for k in range(1, rings + 1):
+        polar = np.pi - 0.5 * np.pi * k / rings  # from the bottom pole up to the equator
+        for j in range(sectors):
+            azimuth = 2 * np.pi * j / sectors
+            vertices.append((np.sin(polar) * np.cos(azimuth), np.cos(polar), np.sin(polar) * np.sin(azimuth)))
+    ring = lambda k, j: 1 + (k - 1) * sectors + j % sectors  # noqa: E731
+    faces = [(0, ring(1, j), ring(1, j + 1)) for j in range(sectors)]
+    for k in range(1, rings):
+        for j in range(sectors):
+            a, b, c, d = ring(k, j), ring(k, j + 1), ring(k + 1, j), ring(k + 1, j + 1)
+            faces += [(a, c, d), (a, d, b)]
+    mesh = trimesh.Trimesh(np.array(vertices), np.array(faces), process=False)
+    if mesh.face_normals[0][1] > 0:  # the bottom triangle's normal must point down (outward)
+        mesh.faces = mesh.faces[:, ::-1]
     return mesh
 
 
