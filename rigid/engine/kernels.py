@@ -63,6 +63,15 @@ class EngineKernels:
             (``weight``: the share of Δt this evaluation's force acts for, for the sticking springs)."""
             if ti.static(pairs):
                 place_all(model, state, scratch, parallel)
+            if ti.static(materials):  # each body's contacts now (planes, pairs), for its contacts' m_eff
+                if ti.static(pairs):
+                    for i in range(state.particle_x.shape[0]):
+                        material_stages.count_pairs(model, state, scratch, i)
+                for k in range(model.block_start.shape[0]):
+                    material_stages.count_plane_block(model, state, world, scratch, k)
+                for b in range(state.x.shape[0]):
+                    material_stages.sum_counts(model, state, scratch, b)
+            if ti.static(pairs):
                 for c in range(state.particle_x.shape[0]):
                     # In parallel, in cell order (neighbours close in memory); serially in slot order.
                     i = scratch.sorted_particle[c] if ti.static(parallel) else c
@@ -70,11 +79,6 @@ class EngineKernels:
                         material_stages.pair_stage(model, state, world, scratch, i)
                     else:
                         stages.pair_stage(model, state, world, scratch, i)
-            if ti.static(materials):  # each body's plane contacts now, for its contacts' m_eff
-                for k in range(model.block_start.shape[0]):
-                    material_stages.count_plane_block(model, state, world, scratch, k)
-                for b in range(state.x.shape[0]):
-                    material_stages.sum_plane_counts(model, state, scratch, b)
             for k in range(model.block_start.shape[0]):
                 if ti.static(materials):
                     material_stages.block_forces(u, model, state, world, scratch, k, pairs,

@@ -4,9 +4,9 @@ them runs the handout's law bit for bit as before).
 
 What differs from stages.py:
 - each contact's damper comes from the two sides' restitution and the mass it moves
-  (materials.py: c = 2 ζ' √(k m_eff), m_eff = M / n with n the body's contacts: with the
-  planes counted before the forces (``count_plane_block``), with other bodies those of the
-  previous force evaluation; in ``scratch.contacts`` (arrays.py));
+  (materials.py: c = 2 ζ' √(k m_eff), m_eff = M / n with n the body's contacts, counted
+  before the forces (``count_pairs``, ``count_plane_block``, ``sum_counts``) in
+  ``scratch.contacts`` (arrays.py));
 - friction on the planes sticks: a tangential spring per (particle, plane), in
   ``state.plane_slip`` [N · MAX_PLANES] (zeroed where the particle is clear of the plane);
 - a static body (``model.body_material[b][2]`` = 1) gets no forces and is not integrated (kernels.py);
@@ -182,14 +182,37 @@ def count_plane_block(model: ti.template(), state: ti.template(), world: ti.temp
                         plane = world.planes[j]
                         if plane[3] + radius - ti.Vector([plane[0], plane[1], plane[2]]).dot(p) > 0:
                             count += 1
+    pairs = 0  # and the block's pair contacts (count_pairs; 0 without pairs)
+    for i in range(model.block_start[k], model.block_start[k] + model.block_count[k]):
+        pairs += scratch.contacts[i]
     scratch.contacts[state.particle_x.shape[0] + 2 * k] = count
+    scratch.contacts[state.particle_x.shape[0] + 2 * k + 1] = pairs
 
 
 @ti.func
-def sum_plane_counts(model: ti.template(), state: ti.template(), scratch: ti.template(), b):
-    first = model.body_block_start[b]
-    N, K = state.particle_x.shape[0], model.block_start.shape[0]
-    planes = 0
-    for k in range(first, first + model.body_block_count[b]):
-        planes += scratch.contacts[N + 2 * k]
-    scratch.contacts[N + 2 * K + 2 * b] = planes
+def count_pairs(model: ti.template(), state: ti.template(), scratch: ti.template(), i):
+    """Slot i's particles of other bodies within reach now (0 for a static body's): the pair
+    stage's m_eff then knows a contact's load sharers from its first substep on."""
+    a = model.particle_body[i]
+    touching = 0
+    if not is_static(model, a):
+        p, r_a = state.particle_x[i], model.particle_radius[a]
+        g = grid.cell_coords(scratch, p)
+        for dz in range(-1, 2):
+            for dy in range(-1, 2):
+                for part in range(3):
+                    lo, hi = grid.row_range(scratch, g[0], g[1] + dy, g[2] + dz, part)
+                    for slot in range(lo, hi):
+                        b = scratch.sorted_body[slot]
+                        if b != a:
+                            d = scratch.sorted_x[slot] - p
+                            reach = r_a + model.particle_radius[b]
+                            if d.dot(d) < reach * reach:
+                                touching += 1
+    scratch.contacts[i] = touching
+
+
+@ti.func
+def sum_counts(model: ti.template(), state: ti.template(), scratch: ti.template(), b):
+    """Body b's plane and pair contacts now: the sums of its blocks' (count_plane_block)."""
+    count_contacts(model, state, scratch, b)
