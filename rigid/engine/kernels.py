@@ -64,9 +64,6 @@ class EngineKernels:
             if ti.static(pairs):
                 place_all(model, state, scratch, parallel)
             if ti.static(materials):  # each body's contacts now (planes, pairs), for its contacts' m_eff
-                if ti.static(pairs):
-                    for i in range(state.particle_x.shape[0]):
-                        material_stages.count_pairs(model, state, scratch, i)
                 for k in range(model.block_start.shape[0]):
                     material_stages.count_plane_block(model, state, world, scratch, k)
                 for b in range(state.x.shape[0]):

@@ -4,9 +4,9 @@ them runs the handout's law bit for bit as before).
 
 What differs from stages.py:
 - each contact's damper comes from the two sides' restitution and the mass it moves
-  (materials.py: c = 2 ζ' √(k m_eff), m_eff = M / n with n the body's contacts, counted
-  before the forces (``count_pairs``, ``count_plane_block``, ``sum_counts``) in
-  ``scratch.contacts`` (arrays.py));
+  (materials.py: c = 2 ζ' √(k m_eff), m_eff = M / n with n the body's contacts: with the planes
+  counted before the forces (``count_plane_block``), with other bodies as the last pair stage
+  predicted them (``pair_stage``); summed per body by ``sum_counts``, in ``scratch.contacts``);
 - friction on the planes sticks: a tangential spring per (particle, plane), in
   ``state.plane_slip`` [N · MAX_PLANES] (zeroed where the particle is clear of the plane);
 - a static body (``model.body_material[b][2]`` = 1) gets no forces and is not integrated (kernels.py);
@@ -57,7 +57,11 @@ def _pair_count(model: ti.template(), state: ti.template(), scratch: ti.template
 
 @ti.func
 def pair_stage(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(), i):
-    """Stage 3a with materials: slot i's force, couple and number of contacts from other bodies."""
+    """Stage 3a with materials: slot i's force and couple from other bodies' particles, and how
+    many of them touch it or will after this substep at their closing speed (the next force
+    evaluation's count: a count of those touching only would be 0 on a contact's first substep
+    and over-damp it, 19 % low at e = 0.1 for volume balls head-on; counting them anew before
+    the forces would take a second neighbour search, 75 % more time in a pile)."""
     a = model.particle_body[i]
     f = ti.Vector.zero(float, 3)
     couple = ti.Vector.zero(float, 3)
@@ -89,6 +93,12 @@ def pair_stage(model: ti.template(), state: ti.template(), world: ti.template(),
                                 f += fp
                                 couple += cp
                                 touching += 1
+                            elif d.dot(d) < 4.0 * reach * reach:  # about to touch? (for the next count)
+                                dist = ti.sqrt(d.dot(d))
+                                closing = ((v_a + w_a.cross(p - x_a)) - (state.v[b] + state.omega[b].cross(q - state.x[b]))
+                                           ).dot(d) / dist
+                                if dist - reach < closing * dt:
+                                    touching += 1
     scratch.particle_f[i] = f
     scratch.particle_couple[i] = couple
     scratch.contacts[i] = touching
@@ -182,34 +192,11 @@ def count_plane_block(model: ti.template(), state: ti.template(), world: ti.temp
                         plane = world.planes[j]
                         if plane[3] + radius - ti.Vector([plane[0], plane[1], plane[2]]).dot(p) > 0:
                             count += 1
-    pairs = 0  # and the block's pair contacts (count_pairs; 0 without pairs)
+    pairs = 0  # and the block's pair contacts (as the last pair stage predicted them; 0 without pairs)
     for i in range(model.block_start[k], model.block_start[k] + model.block_count[k]):
         pairs += scratch.contacts[i]
     scratch.contacts[state.particle_x.shape[0] + 2 * k] = count
     scratch.contacts[state.particle_x.shape[0] + 2 * k + 1] = pairs
-
-
-@ti.func
-def count_pairs(model: ti.template(), state: ti.template(), scratch: ti.template(), i):
-    """Slot i's particles of other bodies within reach now (0 for a static body's): the pair
-    stage's m_eff then knows a contact's load sharers from its first substep on."""
-    a = model.particle_body[i]
-    touching = 0
-    if not is_static(model, a):
-        p, r_a = state.particle_x[i], model.particle_radius[a]
-        g = grid.cell_coords(scratch, p)
-        for dz in range(-1, 2):
-            for dy in range(-1, 2):
-                for part in range(3):
-                    lo, hi = grid.row_range(scratch, g[0], g[1] + dy, g[2] + dz, part)
-                    for slot in range(lo, hi):
-                        b = scratch.sorted_body[slot]
-                        if b != a:
-                            d = scratch.sorted_x[slot] - p
-                            reach = r_a + model.particle_radius[b]
-                            if d.dot(d) < reach * reach:
-                                touching += 1
-    scratch.contacts[i] = touching
 
 
 @ti.func

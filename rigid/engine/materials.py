@@ -14,10 +14,11 @@ into c per contact, from the damped oscillator of that contact:
 2. m_eff, the mass the contact moves. A body of mass M resting on n of its particles is n
    springs k and n dampers c in parallel on M, i.e. one spring n k and damper n c, whose
    ratio is n c / (2 √(n k M)) = c / (2 √(k M / n)): each contact must use m_eff = M / n.
-   n is counted at run time, per body, before the forces of each evaluation: its contacts
-   with the static planes for a plane contact; for a pair of bodies the larger of the two
-   bodies' pair-contact counts (a count of the last substep would over-damp a contact's first
-   substep, where it is still 0: 19 % low at e = 0.1 for a volume ball), with m_eff = M_a M_b / (M_a + M_b) / n (a static body's mass is infinite:
+   n is counted at run time, per body: its contacts with the static planes, counted before
+   the forces of each evaluation, for a plane contact; for a pair of bodies the larger of the
+   two bodies' pair-contact counts, as the last pair stage predicted them (the pairs touching
+   or closing within a step: a count of those touching would be 0 on a contact's first
+   substep and over-damp it, 19 % low at e = 0.1 for a volume ball), with m_eff = M_a M_b / (M_a + M_b) / n (a static body's mass is infinite:
    m_eff = M / n of the moving one). Rotation is ignored (a contact off the line through
    the centre of mass moves less than M); a body touching two things at once counts both
    (its damping per contact is then lower than asked: piles bounce a little more).
