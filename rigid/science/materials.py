@@ -43,6 +43,20 @@ def thrown(particles: str = "vertex", integrator: str = "euler") -> list:
     return (sim.snapshot()["v"][:, 1] / 2.0).tolist()
 
 
+def head_on(particles: str) -> list:
+    """Five pairs of balls (one e each) meeting at 2 m/s without gravity: separation / approach."""
+    bodies = []
+    for i, e in enumerate(ES):
+        z = -0.8 + 0.4 * i
+        bodies += [dict(position=(-0.3, 0.0, z), initial_velocity=(1.0, 0, 0), restitution=e),
+                   dict(position=(0.3, 0.0, z), initial_velocity=(-1.0, 0, 0), restitution=e)]
+    sim = _sim(scale=0.15, particles=particles, grid=6, bodies=tuple(bodies), friction=0.0, walls=False,
+               gravity=(0, 0, 0), collision_stiffness=1e5, particle_mass=0.01, dt=1e-4)
+    sim.advance_frames(30)
+    v = sim.snapshot()["v"][:, 0]
+    return ((v[1::2] - v[0::2]) / 2.0).tolist()
+
+
 def dropped() -> dict:
     """Bounce heights: rise after the last substep in contact over the drop to first contact."""
     sim = _balls()
@@ -107,16 +121,18 @@ def slide(mu: float = 0.3) -> dict:
 def measure() -> dict:
     r4 = lambda x: float(f"{x:.4g}")  # noqa: E731
     out = dict(e=list(ES), thrown_vertex_euler=thrown(), thrown_volume_rk4=thrown("volume", "rk4"),
-               thrown_volume_euler=thrown("volume", "euler"), dropped=dropped(), ramp=ramp(), slide=slide())
+               thrown_volume_euler=thrown("volume", "euler"), head_on_vertex=head_on("vertex"),
+               head_on_volume=head_on("volume"), dropped=dropped(), ramp=ramp(), slide=slide())
     return json.loads(json.dumps(out), parse_float=lambda s: r4(float(s)))
 
 
 def markdown(m: dict) -> str:
-    rows = ["| e | thrown: exit/approach, vertex Euler | volume RK4 | volume Euler | dropped: rise/drop | e² |",
-            "|---|---|---|---|---|---|"]
+    rows = ["| e | thrown: exit/approach, vertex Euler | volume RK4 | volume Euler | head-on: separation/approach, "
+            "vertex | volume | dropped: rise/drop | e² |", "|---|---|---|---|---|---|---|---|"]
     for i, e in enumerate(m["e"]):
         rows.append(f"| {e} | {m['thrown_vertex_euler'][i]} | {m['thrown_volume_rk4'][i]} | "
-                    f"{m['thrown_volume_euler'][i]} | {m['dropped']['height_ratio'][i]} | {m['dropped']['e_squared'][i]:.4g} |")
+                    f"{m['thrown_volume_euler'][i]} | {m['head_on_vertex'][i]} | {m['head_on_volume'][i]} | "
+                    f"{m['dropped']['height_ratio'][i]} | {m['dropped']['e_squared'][i]:.4g} |")
     r, s = m["ramp"], m["slide"]
     rows += ["", f"Ramp 30°, μ = 0.2: acceleration {r['acceleration']} m/s² against g (sin θ − μ cos θ) = "
                  f"{r['expected']} m/s²; μ = 0.7: moved {r['moved_mu07_2s']} m in 2 s. "
