@@ -178,3 +178,17 @@ def test_bad_material_and_plane_values_are_one_line(tmp_path):
     scene.write_text('[[plane]]\npoint = [0, -1, 0]\nnormal = [0, 1, 0]\nbounce = 1\n')
     with pytest.raises(UserError, match=r"\[\[plane\]\] 1: unknown key 'bounce'"):
         check_colliders(SimConfig(**load_scene(scene)).validate())
+
+
+def test_static_mesh_is_exported_as_a_node_without_animation(tmp_path):
+    import pygltflib
+
+    from rigid.api import export
+
+    sim = _sim(scale=0.1, particle_radius=0.02, position=(0.0, -0.3, 0.0), walls=False,
+               statics=(dict(mesh=str(ASSETS / "bowl.obj"), scale=0.5),))
+    export(sim, sim.advance(2), tmp_path / "bowl.glb")
+    gltf = pygltflib.GLTF2().load(str(tmp_path / "bowl.glb"))
+    animated = {c.target.node for c in gltf.animations[0].channels}
+    names = [n.name for n in gltf.nodes]
+    assert names[:2] == ["body", "static_bowl_0"] and animated == {0}, (names, animated)
