@@ -32,7 +32,7 @@ def init(arch: str = "cpu", fp64: bool = False) -> str:
 def scene(**keys) -> SimConfig:
     """A scene from the scene file's keys (``mesh``, ``scale``, ``position``, ``count``,
     ``collision_stiffness``, ...; ``bodies=[dict(mesh=..., count=...), ...]`` for [[body]]
-    tables). A relative ``mesh`` is looked up in the working folder, then in the assets."""
+    tables, ``planes=[...]`` and ``statics=[...]`` for [[plane]] and [[static]] ones). A relative ``mesh`` is looked up in the working folder, then in the assets."""
     from .config import resolve_mesh
 
     here = Path.cwd() / "scene.toml"  # resolve_mesh looks beside "the file", then in assets/
@@ -41,6 +41,9 @@ def scene(**keys) -> SimConfig:
     if "bodies" in keys:
         keys["bodies"] = tuple({**b, **({"mesh": resolve_mesh(here, str(b["mesh"]))} if "mesh" in b else {})}
                                for b in keys["bodies"])
+    if "statics" in keys:  # [[static]] tables: planes=[dict(point=..., normal=...)] need nothing
+        keys["statics"] = tuple({**t, **({"mesh": resolve_mesh(here, str(t["mesh"]))} if "mesh" in t else {})}
+                                for t in keys["statics"])
     for key, value in list(keys.items()):
         if isinstance(value, (list, np.ndarray)) and key != "bodies":
             keys[key] = tuple(value)

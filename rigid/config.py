@@ -49,6 +49,11 @@ class SimConfig:
     velocity_damping_stiffness: float = 1e3  # damping of the normal velocity, N s/m
     friction_stiffness: float = 0.1  # Coulomb coefficient: |f_t| <= mu |f_n|
     sleep: bool = True  # many bodies: bodies at rest for a while sleep (rigid.engine.sleep)
+    # materials and static colliders (rigid.bodies.colliders): None = unset (the three keys above rule)
+    restitution: float | None = None  # coefficient of restitution e, 0..1: sets each contact's damping
+    friction: float | None = None  # Coulomb mu with static friction (a tangential spring at each contact)
+    planes: tuple = ()  # [[plane]] tables: point, normal, friction, restitution
+    statics: tuple = ()  # [[static]] tables: mesh, scale, position, orientation, friction, restitution
     # time
     dt: float = 1e-3
     integrator: str = "euler"  # euler (the slides) | symplectic | rk4
@@ -108,6 +113,10 @@ class SimConfig:
             _positive("particle_radius", self.particle_radius)
         if not isinstance(self.count, int) or isinstance(self.count, bool) or not 1 <= self.count <= 1_000_000:
             raise UserError(f"count = {self.count!r}: use a whole number of copies from 1 to 1000000")
+        if self.restitution is not None and not (_is_number(self.restitution) and 0 <= self.restitution <= 1):
+            raise UserError(f"restitution = {self.restitution!r}: use a number from 0 (no bounce) to 1 (elastic)")
+        if self.friction is not None:  # [[plane]] and [[static]] tables: rigid.bodies.colliders
+            _non_negative("friction", self.friction)
         for i in range(len(self.bodies)):
             self.body_config(i)  # raises "[[body]] i: ..." for a bad value in that table
         if self.dt > FRAME_TIME:
@@ -131,10 +140,11 @@ class SimConfig:
         return self
 
 
-SCENE_KEYS = {f.name for f in fields(SimConfig)} - {"bodies"} | {"body"}
+MATERIAL_KEYS = ("restitution", "friction")
+SCENE_KEYS = {f.name for f in fields(SimConfig)} - {"bodies", "planes", "statics"} | {"body", "plane", "static"}
 # Keys a [[body]] table may set; at the top level they are every body's defaults.
 BODY_KEYS = {"mesh", "scale", "position", "orientation", "initial_velocity", "initial_angular_velocity",
-             "particle_mass", "particles", "grid", "particle_radius", "count"}
+             "particle_mass", "particles", "grid", "particle_radius", "count", *MATERIAL_KEYS}
 _VECTOR_KEYS = {"position", "initial_velocity", "initial_angular_velocity", "gravity", "resolution",
                 "orientation"}
 
@@ -185,6 +195,15 @@ def load_scene(path: str | Path) -> dict:
     camera = data.pop("camera", None)  # checked by rigid/view/camera.py (its keys are the view's)
     if camera is not None and not isinstance(camera, dict):
         raise UserError(f"scene file {path}: 'camera' must be a [camera] table (position, look_at, fov, follow)")
+    planes, statics = data.pop("plane", []), data.pop("static", [])
+    for name, given in (("plane", planes), ("static", statics)):
+        if not isinstance(given, list) or not all(isinstance(t, dict) for t in given):
+            raise UserError(f"scene file {path}: '{name}' must be [[{name}]] tables")
+    if planes:
+        data["planes"] = tuple(planes)
+    if statics:
+        data["statics"] = tuple({**t, "mesh": resolve_mesh(path, t["mesh"])} if isinstance(t.get("mesh"), str)
+                                else t for t in statics)
     tables = data.pop("body", [])
     if not isinstance(tables, list) or not all(isinstance(b, dict) for b in tables):
         raise UserError(f"scene file {path}: 'body' must be [[body]] tables, one per body")
@@ -209,7 +228,8 @@ def _check_table(path: Path, table: dict, where: str) -> dict:
     """Check the types of a table's keys (in place), resolve its mesh path, make vectors tuples."""
     defaults = SimConfig()
     for key, value in table.items():
-        _check_type(path, key, value, getattr(defaults, key), where)
+        if key not in ("planes", "statics"):  # [[plane]], [[static]]: rigid.bodies.colliders checks them
+            _check_type(path, key, value, getattr(defaults, key), where)
     if "mesh" in table:
         table["mesh"] = resolve_mesh(path, table["mesh"])
     for key in _VECTOR_KEYS & set(table):
@@ -231,7 +251,7 @@ def _check_type(path, key, value, default, where=""):
         want = "a list of numbers, e.g. [0.0, 1.0, 0.0]"
     elif key in ("frames", "count"):
         ok, want = isinstance(value, int) and not isinstance(value, bool), "a whole number"
-    elif key == "particle_radius":
+    elif key in ("particle_radius", *MATERIAL_KEYS):
         ok, want = _is_number(value), "a number (metres)"
     elif isinstance(default, bool):
         ok, want = isinstance(value, bool), "true or false"

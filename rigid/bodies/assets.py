@@ -10,6 +10,7 @@ plain OBJ (``v`` and ``f`` lines only), so each vertex is one particle:
 - t_handle.obj  a T-handle (bar + stem, two boxes touching at a face): the intermediate-axis flip
 - torus.obj     torus, 64 x 64 = 4096 vertices: the ~4000-vertex mesh of the benchmarks
 - capsule.obj   a pill: it rolls on its side and rocks on its ends
+- bowl.obj      the lower half of a sphere of radius 1, open at the top: a [[static]] mesh
 """
 from pathlib import Path
 
@@ -26,6 +27,27 @@ def t_handle() -> trimesh.Trimesh:
     return trimesh.util.concatenate([bar, stem])
 
 
+def bowl(rings: int = 12, sectors: int = 40) -> trimesh.Trimesh:
+    """The lower half of a unit sphere, open at the top: a pole at y = −1, ``rings`` rings of
+    ``sectors`` vertices up to the equator y = 0 (the rim), triangles facing outward."""
+    vertices = [(0.0, -1.0, 0.0)]
+    for k in range(1, rings + 1):
+        polar = np.pi - 0.5 * np.pi * k / rings  # from the bottom pole up to the equator
+        for j in range(sectors):
+            azimuth = 2 * np.pi * j / sectors
+            vertices.append((np.sin(polar) * np.cos(azimuth), np.cos(polar), np.sin(polar) * np.sin(azimuth)))
+    ring = lambda k, j: 1 + (k - 1) * sectors + j % sectors  # noqa: E731
+    faces = [(0, ring(1, j), ring(1, j + 1)) for j in range(sectors)]
+    for k in range(1, rings):
+        for j in range(sectors):
+            a, b, c, d = ring(k, j), ring(k, j + 1), ring(k + 1, j), ring(k + 1, j + 1)
+            faces += [(a, c, d), (a, d, b)]
+    mesh = trimesh.Trimesh(np.array(vertices), np.array(faces), process=False)
+    if mesh.face_normals[0][1] > 0:  # the bottom triangle's normal must point down (outward)
+        mesh.faces = mesh.faces[:, ::-1]
+    return mesh
+
+
 def meshes() -> dict:
     return {
         "sphere": trimesh.creation.icosphere(subdivisions=1, radius=1.0),
@@ -37,6 +59,7 @@ def meshes() -> dict:
         "capsule": trimesh.creation.capsule(height=0.8, radius=0.25, count=(16, 16)),
         # A domino at its real size (scale 1): thin along x, tall along y, 4 x 20 x 10 cm.
         "domino": trimesh.creation.box(extents=(0.04, 0.2, 0.1)),
+        "bowl": bowl(),
     }
 
 

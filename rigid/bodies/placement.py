@@ -44,6 +44,10 @@ class BodySpec:
     orientation: np.ndarray  # (4,) unit quaternion, scalar first
     velocity: np.ndarray  # (3,) m/s
     angular_velocity: np.ndarray  # (3,) rad/s, world
+    restitution: float | None = None  # the body's e and μ (rigid.bodies.colliders; None: unset)
+    friction: float | None = None
+    static: bool = False  # a [[static]] mesh (rigid.bodies.statics)
+    group: tuple | None = None  # (entry, copy) of the meshes one file places together
 
     @property
     def centre_of_mass(self) -> np.ndarray:
@@ -96,13 +100,14 @@ def scene_bodies(config) -> list[BodySpec]:
             name = f"{stem}_{entry}_{k}" if body.count > 1 else f"{stem}_{entry}"
             if len(parts) == 1:
                 bodies.append(BodySpec(name, template.geometry, body.particle_mass, template.radius, slot, q,
-                                       template.velocity, template.angular_velocity))
+                                       template.velocity, template.angular_velocity, body.restitution, body.friction))
                 continue
             R = quaternion_to_matrix_np(q)
             for t, offset in zip(templates, offsets):  # the group turned about its centre, moving rigidly
                 arm = R @ offset
                 bodies.append(BodySpec(f"{name}_{t.name}", t.geometry, t.particle_mass, t.radius, slot + arm, q,
-                                       t.velocity + np.cross(t.angular_velocity, arm), t.angular_velocity))
+                                       t.velocity + np.cross(t.angular_velocity, arm), t.angular_velocity,
+                                       body.restitution, body.friction, group=(entry, k)))
     if len(bodies) == 1:
         bodies[0].name = "body"
     return bodies

@@ -5,6 +5,8 @@
   blocks.py     particles in compact blocks (the unit of work and of summation)
   stages.py     the stages of a substep; contact.py: the one contact law; grid.py, scan.py: neighbours
   grab.py       the mouse's spring on one particle (runtime values in WorldArgs.values)
+  materials.py  restitution e -> each contact's damper, the pair rules; material_stages.py: the force
+                stages when a scene sets materials, planes or static meshes
   schemes.py    the updates from (F, τ): explicit Euler (TODO 5-7), symplectic Euler, RK4
   kernels.py    the kernels, cached per (TODO units, scheme); schedule.py: serial or parallel
   rows.py       a row of state per frame, for the host; simulator.py: the facade

@@ -18,7 +18,10 @@ rest of ScratchArgs, per particle slot [N] (world frame): ``particle_f`` the pai
 ``particle_couple`` the pairs' couple about the particle; per block [K]: ``block_energy`` its
 springs' energy (at a frame's end), ``partial_F``, ``partial_tau`` its share of F and τ
 (about the body's centre of mass); [2B]: ``rk`` RK4's Y₀ (slots 0..B−1) and the weighted sum of
-its stages (slots B..2B−1), x, q, P, L packed in 13 numbers. RowArgs: rows.py.
+its stages (slots B..2B−1), x, q, P, L packed in 13 numbers; with materials,
+``contacts`` [N + 2K + 2B] i32: each particle's pair contacts, each block's plane and pair
+contacts, each body's of the last evaluation (material_stages.py; else one element; one
+array, as the x64 backend takes at most 64 argument elements). RowArgs: rows.py.
 """
 from __future__ import annotations
 
@@ -58,15 +61,24 @@ def _pack_type(members: dict):
 
 
 ModelArgs = _pack_type(dict(
-    r0=("v3", 1), r0_x=("f", 1), r0_y=("f", 1), r0_z=("f", 1), particle_body=("i", 1), body_start=("i", 1), body_count=("i", 1),
+    r0_x=("f", 1), r0_y=("f", 1), r0_z=("f", 1), particle_body=("i", 1), body_start=("i", 1), body_count=("i", 1),
     particle_mass=("f", 1), particle_radius=("f", 1), body_mass=("f", 1),
     inertia_body=("m3", 1), inertia_body_inv=("m3", 1),
     block_start=("i", 1), block_count=("i", 1), block_body=("i", 1),
-    block_centre=("v3", 1), block_reach=("f", 1), body_block_start=("i", 1), body_block_count=("i", 1)))
+    block_centre=("v3", 1), block_reach=("f", 1), body_block_start=("i", 1), body_block_count=("i", 1),
+    body_material=("v4", 1)))
+
+
+@ti.func
+def body_offset(model: ti.template(), i):
+    """r0 of particle slot i (body frame, from the centre of mass), from its three columns."""
+    return ti.Vector([model.r0_x[i], model.r0_y[i], model.r0_z[i]])
+
 
 StateArgs = _pack_type(dict(
     x=("v3", 1), q=("v4", 1), P=("v3", 1), L=("v3", 1), v=("v3", 1), omega=("v3", 1),
-    R=("m3", 1), inertia_inv=("m3", 1), particle_x=("v3", 1), particle_v=("v3", 1), sleep=("v3i", 1)))
+    R=("m3", 1), inertia_inv=("m3", 1), particle_x=("v3", 1), particle_v=("v3", 1), sleep=("v3i", 1),
+    plane_slip=("v3", 1)))
 
 WorldArgs = _pack_type(dict(values=("f", 1), planes=("v4", 1)))
 
@@ -75,7 +87,7 @@ ScratchArgs = _pack_type(dict(
     cell_count=("i", 1), cell_start=("i", 1), particle_cell=("i", 1),
     sorted_particle=("i", 1), sorted_x=("v3", 1), sorted_body=("i", 1), chunk_total=("i", 1), grid_dims=("i", 1), grid_params=("f", 1),
     nbr_count=("i", 1), nbr_list=("i", 1), build_x=("v3", 1), nbr_flags=("i", 1), active=("i", 1), build_pose=("v13", 1),
-    rk=("v13", 1)))
+    rk=("v13", 1), contacts=("i", 1)))
 
 RowArgs = _pack_type(dict(body=("f", 3), contact_energy=("f", 1)))
 

@@ -1,5 +1,9 @@
 """The one contact law: static planes on particles and particles of two bodies on each other.
 
+With ``restitution`` / ``friction`` / [[plane]] / [[static]] in the scene, the same law takes
+each contact's damper from its materials and friction sticks on the planes
+(``plane_force_sticking``, ``pair_force_damped``; rigid.engine.materials says how).
+
 Every contact, wall or pair, is a penalty spring on the overlap δ of a particle's sphere
 (radius r, the body's ``particle_radius``) with the other side, with
   f_n = max(0, k δ − k_d v_n)                 spring + damping of the approach speed, never pulling
@@ -55,9 +59,46 @@ def plane_force(p, v, radius, plane, k, kd, mu):
 
 
 @ti.func
+def plane_force_sticking(p, v, radius, plane, k, c, ct, mu, slip, step):
+    """The material contact with a plane (rigid.engine.materials): the normal law with the
+    contact's own damper c, and Coulomb friction with sticking: a tangential spring k whose
+    stretch ``slip`` (world vec3, zero when the contact begins) grows by v_t ``step`` (the time
+    the force acts), damped by ct, slipping at μ f_n (then re-anchored where the spring alone
+    holds μ f_n). Returns (force at the centre, the new slip, 1 if touching else 0)."""
+    normal = ti.Vector([plane[0], plane[1], plane[2]])
+    force = ti.Vector.zero(float, 3)
+    new_slip = ti.Vector.zero(float, 3)
+    touching = 0
+    depth = plane[3] + radius - normal.dot(p)
+    if depth > 0:
+        touching = 1
+        vn = normal.dot(v)
+        fn = ti.max(k * depth - c * vn, 0.0)
+        vt = v - vn * normal
+        s = slip - normal.dot(slip) * normal + step * vt
+        ft = -k * s - ct * vt
+        cap = mu * fn
+        size = ft.norm()
+        if size > cap:
+            ft = (cap / size) * ft  # size > cap >= 0
+            s = ti.Vector.zero(float, 3)
+            if k > 0:
+                s = (-1.0 / k) * ft
+        force = fn * normal + ft
+        new_slip = s
+    return force, new_slip, touching
+
+
+@ti.func
 def pair_force(p_i, p_j, r_a, r_b, x_a, v_a, w_a, x_b, v_b, w_b, k, kd, mu):
     """Particle j (body b) on particle i (body a): (force on i, its couple about p_i moving it to
     the contact point, half the pair's ½ k δ² (each pair is visited from both sides))."""
+    return pair_force_damped(p_i, p_j, r_a, r_b, x_a, v_a, w_a, x_b, v_b, w_b, k, kd, kd, mu)
+
+
+@ti.func
+def pair_force_damped(p_i, p_j, r_a, r_b, x_a, v_a, w_a, x_b, v_b, w_b, k, kd, kt, mu):
+    """``pair_force`` with the normal damper kd and the sticking friction's kt apart (materials)."""
     force = ti.Vector.zero(float, 3)
     couple = ti.Vector.zero(float, 3)
     energy = 0.0
@@ -73,7 +114,7 @@ def pair_force(p_i, p_j, r_a, r_b, x_a, v_a, w_a, x_b, v_b, w_b, k, kd, mu):
         vn = v_rel.dot(n)
         fn = ti.max(k * overlap - kd * vn, 0.0)
         # The relative velocity is j's relative to i: friction on i acts along +v_t.
-        force = -fn * n - friction(fn, v_rel - vn * n, mu, kd)
+        force = -fn * n - friction(fn, v_rel - vn * n, mu, kt)
         couple = (c - p_i).cross(force)
         energy = 0.25 * k * overlap * overlap
     return force, couple, energy

@@ -14,7 +14,8 @@ Two schedules run the same stages (stages.py), chosen by schedule.py:
 
 import taichi as ti
 
-from . import frontend, grid, neighbours, schemes, sleep, stages
+from . import frontend, grid, material_stages, neighbours, schemes, sleep, stages
+from . import arrays
 from .arrays import ModelArgs, RowArgs, ScratchArgs, StateArgs, SurfaceArgs, WorldArgs
 from .matvec import matvec
 from .state import DT
@@ -24,25 +25,28 @@ _CACHE: dict = {}
 frontend.install()  # the frontend's debug strings formatted once per node (frontend.py)
 
 
-def engine_kernels(units, scheme: str, pairs: bool) -> "EngineKernels":
+def engine_kernels(units, scheme: str, pairs: bool, materials: bool = False) -> "EngineKernels":
     """The kernels for ``units`` (an object with the 7 TODO ``ti.func``s), ``scheme`` ("euler",
     "symplectic", "rk4") and whether bodies collide with one another (``pairs``: the grid and
     pair stages are compiled only for scenes that need them, which halves a lone body's
-    compile time), compiled on first use in this process."""
-    key = (id(units), scheme, bool(pairs))
+    compile time) and whether the scene sets materials or static colliders (``materials``:
+    material_stages.py's force stages), compiled on first use in this process."""
+    key = (id(units), scheme, bool(pairs), bool(materials))
     entry = _CACHE.get(key)
     if entry is None or entry.units is not units:
-        entry = _CACHE[key] = EngineKernels(units, scheme, bool(pairs))
+        entry = _CACHE[key] = EngineKernels(units, scheme, bool(pairs), bool(materials))
     return entry
 
 
 class EngineKernels:
-    def __init__(self, units, scheme: str, pairs: bool):
-        self.units, self.scheme, self.pairs = units, scheme, pairs
+    def __init__(self, units, scheme: str, pairs: bool, materials: bool = False):
+        self.units, self.scheme, self.pairs, self.materials = units, scheme, pairs, materials
         u = units
         M, S, W, C, Rw, Sf = ModelArgs(), StateArgs(), WorldArgs(), ScratchArgs(), RowArgs(), SurfaceArgs()
         rk4 = scheme == "rk4"
-        sleeping = pairs and not rk4  # bodies may sleep (sleep.py): many bodies, Euler or symplectic
+        # Bodies may sleep (sleep.py) with many bodies, Euler or symplectic, and no materials (whose
+        # contacts keep per-contact memory: static friction's springs, the counts of m_eff).
+        sleeping = pairs and not rk4 and not materials
         update = schemes.symplectic_update if scheme == "symplectic" else schemes.euler_update
 
         @ti.func
@@ -68,19 +72,32 @@ class EngineKernels:
                     neighbours.finish_list(state, scratch, i)
                 for b in range(state.x.shape[0] * neighbours.rebuild_gate(scratch)):
                     neighbours.keep_build_pose(scratch, state, b)
+                if ti.static(materials):  # a particle left out of the new lists has no pair contacts
+                    for i in range(state.particle_x.shape[0] * neighbours.rebuild_gate(scratch)):
+                        if scratch.nbr_count[i] == 0:
+                            scratch.contacts[i] = 0
                 neighbours.clear_flag(scratch)
             else:
                 stages.place_particles(model, state)
 
         @ti.func
         def forces(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(),
-                   parallel: ti.template()):
-            """Stages 1-3: the pair forces (when bodies collide), then each block's forces and shares."""
+                   parallel: ti.template(), weight):
+            """Stages 1-3: the pair forces (when bodies collide), then each block's forces and shares
+            (``weight``: the share of Δt this evaluation's force acts for, for the sticking springs)."""
             if ti.static(pairs):
                 place_all(model, state, scratch, parallel, False)
+            if ti.static(materials):  # each body's contacts now (planes, pairs), for its contacts' m_eff
+                for k in range(model.block_start.shape[0]):
+                    material_stages.count_plane_block(model, state, world, scratch, k)
+                for b in range(state.x.shape[0]):
+                    material_stages.sum_counts(model, state, scratch, b)
+            if ti.static(pairs):
                 for t in range(neighbours.num_active(scratch)):  # each writes its own slot: any order
                     i = scratch.active[t]
-                    if ti.static(sleeping):  # awake bodies; they mark the sleepers a moving one touches
+                    if ti.static(materials):
+                        material_stages.pair_stage(model, state, world, scratch, i)
+                    elif ti.static(sleeping):  # awake bodies; they mark the sleepers a moving one touches
                         if not sleep.asleep(state, model.particle_body[i]):
                             stages.pair_stage(model, state, world, scratch, i, True)
                     else:
@@ -92,11 +109,45 @@ class EngineKernels:
                         if sleep.asleep(state, b) and not sleep.resting(state, b):
                             stages.pair_stage(model, state, world, scratch, i, False)
             for k in range(model.block_start.shape[0]):
-                if ti.static(sleeping):
+                if ti.static(materials):
+                    material_stages.block_forces(u, model, state, world, scratch, k, pairs,
+                                                 weight * world.values[DT])
+                elif ti.static(sleeping):
                     if not sleep.resting(state, model.block_body[k]):
                         stages.block_forces(u, model, state, world, scratch, k, pairs)
                 else:
                     stages.block_forces(u, model, state, world, scratch, k, pairs)
+
+        @ti.func
+        def body_step(model: ti.template(), state: ti.template(), scratch: ti.template(), world: ti.template(), b, dt):
+            """Stage 4 for body b: its wrench and the scheme's update (a static body: its contacts
+            only; a resting sleeper: nothing, sleep.py)."""
+            if ti.static(materials):
+                F, tau = stages.body_wrench(model, scratch, b)
+                material_stages.count_contacts(model, state, scratch, b)
+                if not material_stages.is_static(model, b):
+                    update(u, model, state, b, dt, F, tau)
+            elif ti.static(sleeping):
+                if not sleep.resting(state, b):
+                    sleep.begin_update(state, b)
+                    F, tau = stages.body_wrench(model, scratch, b)
+                    update(u, model, state, b, dt, F, tau)
+                    if sleep.end_update(state, world, scratch, b):  # at rest from now on
+                        zero = ti.Vector.zero(float, 3)
+                        schemes.store(u, model, state, b, state.x[b], state.q[b], zero, zero, state.R[b])
+            else:
+                F, tau = stages.body_wrench(model, scratch, b)
+                update(u, model, state, b, dt, F, tau)
+
+        @ti.func
+        def rk4_stage(model: ti.template(), state: ti.template(), scratch: ti.template(), b, dt, stage):
+            F, tau = stages.body_wrench(model, scratch, b)
+            if ti.static(materials):
+                material_stages.count_contacts(model, state, scratch, b)
+                if not material_stages.is_static(model, b):
+                    schemes.rk4_stage(u, model, state, scratch, b, dt, F, tau, stage)
+            else:
+                schemes.rk4_stage(u, model, state, scratch, b, dt, F, tau, stage)
 
         @ti.func
         def substep_stages(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(),
@@ -109,32 +160,24 @@ class EngineKernels:
                     schemes.rk4_begin(state, scratch, b)
                 if ti.static(parallel):  # each stage's loops top-level (parallel) tasks: unrolled
                     for stage in ti.static(range(4)):
-                        forces(model, state, world, scratch, parallel)
+                        forces(model, state, world, scratch, parallel, schemes.RK4_WEIGHTS[stage] / 6.0)
                         for b in range(state.x.shape[0]):
-                            F, tau = stages.body_wrench(model, scratch, b)
-                            schemes.rk4_stage(u, model, state, scratch, b, dt, F, tau, stage)
+                            rk4_stage(model, state, scratch, b, dt, stage)
                 else:  # one thread: a loop, so that the pipeline is compiled once, not four times
                     for stage in range(4):
-                        forces(model, state, world, scratch, parallel)
+                        forces(model, state, world, scratch, parallel, schemes.rk4_weight(stage) / 6.0)
                         for b in range(state.x.shape[0]):
-                            F, tau = stages.body_wrench(model, scratch, b)
-                            schemes.rk4_stage(u, model, state, scratch, b, dt, F, tau, stage)
+                            rk4_stage(model, state, scratch, b, dt, stage)
                 for b in range(state.x.shape[0]):
-                    schemes.rk4_finish(u, model, state, scratch, b, dt)
-            else:
-                forces(model, state, world, scratch, parallel)
-                for b in range(state.x.shape[0]):
-                    if ti.static(sleeping):
-                        if not sleep.resting(state, b):
-                            sleep.begin_update(state, b)
-                            F, tau = stages.body_wrench(model, scratch, b)
-                            update(u, model, state, b, dt, F, tau)
-                            if sleep.end_update(state, world, scratch, b):  # at rest from now on
-                                zero = ti.Vector.zero(float, 3)
-                                schemes.store(u, model, state, b, state.x[b], state.q[b], zero, zero, state.R[b])
+                    if ti.static(materials):
+                        if not material_stages.is_static(model, b):
+                            schemes.rk4_finish(u, model, state, scratch, b, dt)
                     else:
-                        F, tau = stages.body_wrench(model, scratch, b)
-                        update(u, model, state, b, dt, F, tau)
+                        schemes.rk4_finish(u, model, state, scratch, b, dt)
+            else:
+                forces(model, state, world, scratch, parallel, 1.0)
+                for b in range(state.x.shape[0]):
+                    body_step(model, state, scratch, world, b, dt)
 
         @ti.kernel
         def run_frames(model: M, state: S, world: W, scratch: C, rows: Rw, frames: ti.i32, substeps: ti.i32):
@@ -190,7 +233,7 @@ class EngineKernels:
             for b in range(model.body_start.shape[0]):
                 total = ti.Matrix.zero(float, 3, 3)
                 for i in range(model.body_start[b], model.body_start[b] + model.body_count[b]):
-                    total += u.particle_inertia(model.particle_mass[b], model.r0[i])
+                    total += u.particle_inertia(model.particle_mass[b], arrays.body_offset(model, i))
                 model.inertia_body[b] = total
 
         @ti.kernel

@@ -6,8 +6,8 @@ body by body, and inside a body in blocks (``blocks.py``: spatially compact runs
 most 64 particles, sorted along a Z-order curve). Device arrays (Taichi ndarrays; float
 is the run's precision, f32 or f64), all read-only during a run:
 
-- ``r0``                 [N] vec3   particle offset from its body's centre of mass, body frame
-- ``r0_x``, ``r0_y``, ``r0_z``  [N] float  the same, one array per axis (for vectorised loops)
+- ``r0_x``, ``r0_y``, ``r0_z``  [N] float  particle offset from its body's centre of mass, body frame,
+                                    one array per axis (vectorised loops; arrays.body_offset)
 - ``particle_body``      [N] i32    body of each particle
 - ``body_start``, ``body_count``  [B] i32   body b's particles are slots start .. start + count − 1
 - ``particle_mass``      [B] float  mass of each of the body's particles (all equal), kg
@@ -19,6 +19,8 @@ is the run's precision, f32 or f64), all read-only during a run:
 - ``block_centre``       [K] vec3   centre of the block's particles' bounding sphere, body frame
 - ``block_reach``        [K] float  that sphere's radius (it holds every particle centre), m
 - ``body_block_start``, ``body_block_count``  [B] i32  body b's blocks, consecutive
+- ``body_material``      [B] vec4   (Coulomb μ, restitution e, 1 if static else 0, 0): materials.py,
+                                    −1 for an unset μ or e; a static mesh has infinite mass, is not integrated
 
 The drawn meshes (``surface``, for windows, videos and exports) are not read by a substep:
 ``surface_r0`` [V] vec3 (body frame about the centre of mass), ``surface_body`` [V] i32 and
@@ -39,6 +41,7 @@ import taichi as ti
 
 from .arrays import ModelArgs, SurfaceArgs, device_array, float_dtype, host_float
 from .blocks import block_layout, block_size_for
+from .materials import friction_value
 
 
 @dataclass
@@ -51,6 +54,9 @@ class BodyParts:
     particle_mass: float
     radius: float = 0.0
     name: str = "body"
+    restitution: float | None = None  # e, None: unset (velocity_damping_stiffness)
+    friction: float | None = None  # Coulomb μ, None: unset (friction_stiffness)
+    static: bool = False  # a [[static]] mesh: never moves (rigid.engine.material_stages)
 
 
 class Model:
@@ -80,7 +86,6 @@ class Model:
         self.num_blocks = len(layout["block_start"])
         particle_body = np.repeat(np.arange(B), counts)
 
-        self.r0 = device_array(self.r0_np, 3)
         # The same offsets as three arrays x, y, z (structure of arrays): the block loop loads 8 x,
         # 8 y, 8 z at once when LLVM vectorises it.
         self.r0_x, self.r0_y, self.r0_z = (device_array(self.r0_np[:, c]) for c in range(3))
@@ -98,6 +103,10 @@ class Model:
         # Rounded up, so that the float copy never under-covers its block.
         reach = layout["block_reach"].astype(np.float64)
         self.block_reach = device_array(np.nextafter(reach.astype(host_float()), np.inf))
+
+        self.static_np = np.array([bool(b.static) for b in bodies])
+        self.body_material = device_array(np.array([(friction_value(b.friction), friction_value(b.restitution),
+                                                     float(b.static), 0.0) for b in bodies]), 4)
 
         self._surfaces(bodies, coms)
         self.args = ModelArgs()(**{name: getattr(self, name) for name in ModelArgs.NAMES})

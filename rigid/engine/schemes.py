@@ -21,6 +21,7 @@ ModelArgs, ``state`` StateArgs, ``scratch`` ScratchArgs for RK4):
 """
 import taichi as ti
 
+from .arrays import body_offset
 from .matvec import matvec
 from .rotation import quaternion_multiplication, quaternion_to_matrix
 
@@ -78,6 +79,12 @@ def rk4_begin(state: ti.template(), scratch: ti.template(), b):
 
 
 @ti.func
+def rk4_weight(stage):
+    """RK4_WEIGHTS[stage] for a constant or a run-time stage 0..3."""
+    return RK4_WEIGHTS[0] if stage == 0 or stage == 3 else RK4_WEIGHTS[1]
+
+
+@ti.func
 def rk4_stage(u: ti.template(), model: ti.template(), state: ti.template(), scratch: ti.template(), b, dt,
               F, tau, stage):
     """k_s = Ẏ at the current (stage) state with wrench (F, τ); accumulate it; move to the next
@@ -85,7 +92,7 @@ def rk4_stage(u: ti.template(), model: ti.template(), state: ti.template(), scra
     w = state.omega[b]
     q_dot = 0.5 * quaternion_multiplication(ti.Vector([0.0, w[0], w[1], w[2]]), state.q[b])
     k = _pack13(state.v[b], q_dot, F, tau)
-    weight = RK4_WEIGHTS[0] if stage == 0 or stage == 3 else RK4_WEIGHTS[1]
+    weight = rk4_weight(stage)
     scratch.rk[state.x.shape[0] + b] += weight * k
     if stage < 3:
         node = RK4_NODES[1] if stage < 2 else RK4_NODES[3]  # c_{s+1}
@@ -112,5 +119,5 @@ def init_body(u: ti.template(), model: ti.template(), state: ti.template(), b, x
 @ti.func
 def impulse(u: ti.template(), model: ti.template(), state: ti.template(), i, J):
     b = model.particle_body[i]
-    r = matvec(state.R[b], model.r0[i])
+    r = matvec(state.R[b], body_offset(model, i))
     store(u, model, state, b, state.x[b], state.q[b], state.P[b] + J, state.L[b] + r.cross(J), state.R[b])

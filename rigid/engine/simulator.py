@@ -16,7 +16,10 @@ import numpy as np
 import taichi as ti
 
 from ..bodies.mesh import BodyGeometry
+from ..bodies.colliders import check_colliders, uses_materials
+from ..bodies.overlap import check_start
 from ..bodies.placement import BodySpec, check_inside_box, scene_bodies
+from ..bodies.statics import static_bodies
 from . import neighbours
 from .arrays import ScratchArgs, device_array, host_float, zeros
 from .grab import default_spring, holding, released
@@ -43,6 +46,7 @@ class Simulator:
 
             units = default_units()
         check_units(units)
+        check_colliders(config)  # [[plane]] and [[static]] tables: one line for a bad one
         self.config, self.units = config, units
         self._bodies_from_config = bodies is None and geometry is None
         if geometry is not None:
@@ -51,15 +55,18 @@ class Simulator:
                                np.asarray(config.initial_velocity, float),
                                np.asarray(config.initial_angular_velocity, float))]
         self.bodies = scene_bodies(config) if bodies is None else list(bodies)
+        self.bodies += static_bodies(config, self.bodies)
         if config.walls:
-            check_inside_box(self.bodies, config.floor, config.wall, use_radius=True)
-        self.kernels = engine_kernels(units, config.integrator, pairs=len(self.bodies) > 1)
+            check_inside_box([b for b in self.bodies if not b.static], config.floor, config.wall, use_radius=True)
+        check_start(config, self.bodies)  # no body behind a [[plane]] or inside another
+        self.materials = materials = uses_materials(config)
+        self.kernels = engine_kernels(units, config.integrator, pairs=len(self.bodies) > 1, materials=materials)
         parts = [BodyParts(b.geometry.particles, b.geometry.vertices, b.geometry.faces, b.particle_mass,
-                           b.radius, b.name) for b in self.bodies]
+                           b.radius, b.name, b.restitution, b.friction, b.static) for b in self.bodies]
         self.model = Model(parts, self.kernels)
         B, N = self.model.num_bodies, self.model.num_particles
         pairs = B > 1
-        self.state = State(B, N)
+        self.state = State(B, N, materials)
         self.params = Params(config)
         self.rows = FrameRows(B)
         self._scratch(B, N, pairs)
@@ -87,7 +94,8 @@ class Simulator:
                       nbr_count=zeros(N if pairs else 1, "i"), nbr_list=zeros(lists, "i"),
                       build_x=zeros(N if pairs else 1, "v3"), nbr_flags=zeros(3, "i"),
                       active=zeros(N if pairs else 1, "i"), build_pose=device_array(self._build_pose(), 13),
-                      rk=zeros(2 * B, "v13"))
+                      rk=zeros(2 * B, "v13"),
+                      contacts=zeros(N + 2 * self.model.num_blocks + 2 * B if self.materials else 1, "i"))
         self.grid_shape, self.cell_size = shape, cell
         self._scratch_arrays = arrays
         self.scratch = ScratchArgs()(**{name: arrays[name] for name in ScratchArgs.NAMES})
@@ -138,6 +146,8 @@ class Simulator:
         self._scratch_arrays["nbr_flags"][0] = 1  # the next placement builds the neighbour lists
         self.state.sleep.fill(0)  # every body awake
         self._params_version = self.params.version
+        self.state.clear_contacts()
+        self._scratch_arrays["contacts"].fill(0)
         b = self.bodies
         self.kernels.init_bodies(self.model.args, self.state.args,
                                  *(np.array([getattr(body, key) for body in b], np.float64)
@@ -153,7 +163,7 @@ class Simulator:
         fixed = sorted(set(changes) - self.RUNTIME_KEYS)
         if fixed:
             raise ValueError(f"{fixed} need a new Simulator (they change the model)")
-        self.config = self.config.replace(**changes).validate()
+        self.config = check_colliders(self.config.replace(**changes).validate())
         self.params.load(self.config)
         if set(changes) & self.PLACEMENT_KEYS:
             self._place_again()
@@ -170,10 +180,12 @@ class Simulator:
                 return
             raise ValueError("this Simulator was built from a list of bodies: build a new one to move them")
         bodies = scene_bodies(self.config)
+        bodies += static_bodies(self.config, bodies)
         if [len(b.geometry.particles) for b in bodies] != [len(b.geometry.particles) for b in self.bodies]:
             raise ValueError("the changed config places other bodies: build a new Simulator")
         if self.config.walls:
-            check_inside_box(bodies, self.config.floor, self.config.wall, use_radius=True)
+            check_inside_box([b for b in bodies if not b.static], self.config.floor, self.config.wall, use_radius=True)
+        check_start(self.config, bodies)
         self.bodies = bodies
 
     # -- stepping ---------------------------------------------------------------------------
@@ -320,12 +332,13 @@ class Simulator:
 
     def _block(self, times: list) -> dict:
         """The rows of the last launch, with the energies (float64, computed here, the same way for
-        every block: kinetic ½ P·v + ½ L·ω, potential −M g·x + the contact springs')."""
+        every block: kinetic ½ P·v + ½ L·ω, potential −M g·x of the moving bodies + the contact
+        springs')."""
         body, contact = self.rows.read(len(times), self.kernels)
         rows = split_rows(body)
         g = self.params.gravity
         P, v, L, omega, x = rows["P"], rows["v"], rows["L"], rows["omega"], rows["x"]
         k = len(times)
         kinetic = 0.5 * (P * v).reshape(k, -1).sum(axis=1) + 0.5 * (L * omega).reshape(k, -1).sum(axis=1)
-        potential = -((x @ g) @ self.model.body_mass_np) + contact
+        potential = -((x @ g) @ np.where(self.model.static_np, 0.0, self.model.body_mass_np)) + contact
         return dict(t=np.asarray(times, np.float64), **rows, kinetic_energy=kinetic, potential_energy=potential)

@@ -18,6 +18,7 @@ way, so runs are bit-reproducible. A lone body is B = 1: no grid, no pairs.
 import taichi as ti
 
 from . import grid, neighbours, sleep
+from .arrays import body_offset
 from .contact import pair_force, plane_force
 from .grab import grab_share
 from .matvec import matvec
@@ -48,7 +49,7 @@ def num_planes(world: ti.template()):
 @ti.func
 def place_particle(model: ti.template(), state: ti.template(), i):
     b = model.particle_body[i]
-    r = matvec(state.R[b], model.r0[i])
+    r = matvec(state.R[b], body_offset(model, i))
     state.particle_x[i] = state.x[b] + r
     state.particle_v[i] = state.v[b] + state.omega[b].cross(r)
 

@@ -20,19 +20,26 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..bodies import colliders
 from .arrays import StateArgs, WorldArgs, host_float, zeros
 from .grab import GRAB_FIRST, GRAB_VALUES, released
+from .materials import damping_table, friction_value
 
 # Slots of WorldArgs.values (then the mouse's grab, grab.py, from GRAB_FIRST on).
 DT, STIFFNESS, DAMPING, FRICTION, GX, GY, GZ, NUM_PLANES, SLEEP_SPEED, SLEEP_STEPS = range(10)
 NUM_VALUES = GRAB_FIRST + GRAB_VALUES
 SLEEP_SPEED_DEFAULT = 0.05  # m/s: sleeping (sleep.py) below this speed bound of a body's particles ...
 SLEEP_TIME_DEFAULT = 0.5  # ... for this long, s
-MAX_PLANES = 16
+MAX_PLANES = colliders.MAX_PLANES
+# With materials, WorldArgs.values goes on: from MATERIALS each plane's (μ, e, 0, 0) (−1: unset),
+# from MATERIALS + MATERIAL_TABLE the scheme's materials.damping_table (one array, not three:
+# Taichi's x64 backend takes at most 64 argument elements a kernel).
+MATERIALS = NUM_VALUES
+MATERIAL_TABLE = 4 * MAX_PLANES
 
 
 class State:
-    def __init__(self, num_bodies: int, num_particles: int):
+    def __init__(self, num_bodies: int, num_particles: int, materials: bool = False):
         B, N = num_bodies, num_particles
         kinds = dict(x="v3", q="v4", P="v3", L="v3", v="v3", omega="v3", R="m3", inertia_inv="m3")
         for name, kind in kinds.items():
@@ -40,7 +47,15 @@ class State:
         self.particle_x = zeros(N, "v3")
         self.particle_v = zeros(N, "v3")
         self.sleep = zeros(B, "v3i")  # (asleep, quiet substeps, woken): sleep.py
+        # Materials only (material_stages.py): each particle's tangential spring on each plane
+        # [N·MAX_PLANES] vec3 (world, m).
+        self.plane_slip = zeros(N * MAX_PLANES if materials else 1, "v3")
         self.args = StateArgs()(**{name: getattr(self, name) for name in StateArgs.NAMES})
+
+
+    def clear_contacts(self) -> None:
+        """Forget the contacts' memory (a reset): no spring stretched."""
+        self.plane_slip.fill(0)
 
 
 class Params:
@@ -48,7 +63,9 @@ class Params:
              "floor", "wall")
 
     def __init__(self, config):
-        self.values = zeros(NUM_VALUES)
+        # The damping table only with materials (0.6 s to make).
+        self.table = damping_table(config.integrator).reshape(-1) if colliders.uses_materials(config) else np.zeros(0)
+        self.values = zeros(MATERIALS + MATERIAL_TABLE + len(self.table))
         self.planes = zeros(MAX_PLANES, "v4")
         self.args = WorldArgs()(values=self.values, planes=self.planes)
         self._loading = True
@@ -64,6 +81,14 @@ class Params:
         self.walls = bool(config.walls)
         self.sleep = bool(getattr(config, "sleep", True))
         self.sleep_speed, self.sleep_time = SLEEP_SPEED_DEFAULT, SLEEP_TIME_DEFAULT
+        # [[plane]] tables (n, offset n·point), and every plane's material (μ, ζ): the box's
+        # from the top level, a table's own or the top level's.
+        self.extra_planes = [list(p["normal"]) + [float(np.dot(p["normal"], p["point"]))] for p in config.planes]
+        top = dict(restitution=config.restitution, friction=config.friction)
+        material = lambda t: (friction_value(t.get("friction")), friction_value(t.get("restitution")), 0.0, 0.0)
+        self.box_material = material(top)
+        self.extra_materials = [material({**top, **{k: v for k, v in p.items() if v is not None}})
+                                for p in config.planes]
         self._loading = False
         self.upload()
 
@@ -77,10 +102,12 @@ class Params:
 
     def plane_list(self) -> np.ndarray:
         """The static planes (n, 4): normal (into the free side) and offset n·p, in force order."""
+        extra = np.array(getattr(self, "extra_planes", []), np.float64).reshape(-1, 4)
         if not self.walls:
-            return np.zeros((0, 4))
+            return extra
         f, w = self.floor, self.wall
-        return np.array([[0, 1, 0, f], [1, 0, 0, -w], [-1, 0, 0, -w], [0, 0, 1, -w], [0, 0, -1, -w]], np.float64)
+        box = np.array([[0, 1, 0, f], [1, 0, 0, -w], [-1, 0, 0, -w], [0, 0, 1, -w], [0, 0, -1, -w]], np.float64)
+        return np.concatenate([box, extra])
 
     def upload(self) -> None:
         host = host_float()
@@ -94,7 +121,11 @@ class Params:
         values[SLEEP_SPEED] = self.sleep_speed if self.sleep else 0.0
         values[SLEEP_STEPS] = max(1, round(self.sleep_time / self.dt))
         self.version = getattr(self, "version", 0) + 1  # the Simulator wakes every body on a change
-        self.values.from_numpy(values.astype(host))
+        material = np.zeros((MAX_PLANES, 4))
+        if len(planes):
+            rows = [self.box_material] * (5 if self.walls else 0) + list(self.extra_materials)
+            material[:len(planes)] = np.array(rows)
+        self.values.from_numpy(np.concatenate([values, material.reshape(-1), self.table]).astype(host))
         padded = np.zeros((MAX_PLANES, 4))
         padded[:len(planes)] = planes
         self.planes.from_numpy(padded.astype(host))

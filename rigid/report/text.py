@@ -6,7 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import text_many
+from . import text_many, text_materials
 
 NBSP = "\u00a0"  # a space a line never breaks at: a formula stays on one line
 
@@ -61,6 +61,7 @@ def write(doc, out: Path, configs, runs, flip, validation, bench, stills, many=N
     doc.heading("The intermediate-axis flip", 2)
     doc.image(out / "figures" / "flip.png", flip_caption(flip, validation))
     _validation(doc, out, validation)
+    text_materials.write(doc, out)  # restitution, friction, ramps: report/materials.json if present
     _bench(doc, bench)
     if stills:
         doc.heading("Frames from a recording", 2)

@@ -91,6 +91,8 @@ def build_gltf(motion: Motion) -> gl.GLTF2:
     times = b.accessor(motion.t.astype(np.float32), gl.SCALAR, bounds=True)
     animation = gl.Animation(name="simulation")
     for i in range(motion.num_bodies):
+        if motion.is_static(i):  # a [[static]] mesh: its node's transform, no channels
+            continue
         for path, values, kind in (("translation", translations[:, i], gl.VEC3),
                                    ("rotation", rotations[:, i], gl.VEC4)):
             output = b.accessor(values, kind)

@@ -26,6 +26,10 @@ class Motion:
     q: np.ndarray
     frame_time: float  # substeps × Δt: one rendered frame of simulated time, s
     box: tuple[float, float] | None  # (floor, wall) of the static box, None without walls
+    static: list | None = None  # per body: a [[static]] mesh (written as a node that never moves)
+
+    def is_static(self, i: int) -> bool:
+        return bool(self.static and self.static[i])
 
     @property
     def num_bodies(self) -> int:
@@ -52,7 +56,9 @@ def motion_from(arrays: dict, surfaces: list, config) -> Motion:
                   vertices=[np.asarray(s[1], np.float64).reshape(-1, 3) for s in surfaces],
                   faces=[np.asarray(s[2], np.int32).reshape(-1, 3) for s in surfaces],
                   t=key_times(arrays["t"], frame_time), x=x, q=q, frame_time=frame_time,
-                  box=(float(config.floor), float(config.wall)) if config.walls else None)
+                  box=(float(config.floor), float(config.wall)) if config.walls else None,
+                  # [[static]] meshes are the model's last bodies (rigid.bodies.statics)
+                  static=[False] * (len(surfaces) - len(config.statics)) + [True] * len(config.statics))
 
 
 def key_times(t, frame_time: float) -> np.ndarray:

@@ -18,6 +18,7 @@ import taichi as ti
 from ..errors import UserError
 from .camera import SceneCamera
 from .panel import PANEL_TITLE
+from .planes import plane_drawing
 from .raster import Rasterizer
 from .raster_data import closed_and_outward
 from .shadow import ContactShadows
@@ -59,6 +60,7 @@ class SceneRenderer:
         self.spring = None  # (from, to): the mouse's grab, drawn as a line (grab.py)
         self._spring_line = ti.Vector.field(3, ti.f32, shape=2)
         self._build_box(float(sim.params.floor), float(sim.params.wall))
+        self.planes = plane_drawing(sim)  # [[plane]] tables (planes.py)
         m = sim.model
         self.surface = ti.Vector.field(3, ti.f32, shape=max(m.num_surface, 1))
         self.indices = ti.field(ti.i32, shape=max(3 * m.num_faces, 3))
@@ -120,6 +122,8 @@ class SceneRenderer:
             raster.lines(self.box_lines, width=2.0, color=BOX_COLOR)
         else:  # free flight: a grid on the floor plane to see motion against
             raster.lines(self.grid_lines, width=1.0, color=GRID_COLOR)
+        if self.planes is not None:
+            self.planes.draw(raster)
         if sim.model.num_faces:
             self.surface.from_numpy(np.asarray(sim.surface_positions(), np.float32))
             raster.mesh(self.surface, self.indices, color=BODY_COLOR, two_sided=True, cull_back=self.cull_back,

@@ -1,0 +1,228 @@
+"""The force stages with materials: stage 3a and 3b of stages.py when a scene sets restitution,
+friction, [[plane]] or [[static]] (kernels.py compiles them instead, so that a scene without
+them runs the handout's law bit for bit as before).
+
+What differs from stages.py:
+- each contact's damper comes from the two sides' restitution and the mass it moves
+  (materials.py: c = 2 ζ' √(k m_eff), m_eff = M / n with n the body's contacts: with the planes
+  counted before the forces (``count_plane_block``), with other bodies as the last pair stage
+  predicted them (``pair_stage``); summed per body by ``sum_counts``, in ``scratch.contacts``);
+- friction on the planes sticks: a tangential spring per (particle, plane), in
+  ``state.plane_slip`` [N · MAX_PLANES] (zeroed where the particle is clear of the plane);
+- a static body (``model.body_material[b][2]`` = 1) gets no forces and is not integrated (kernels.py);
+  the pair stage acts on the moving side only, with the static side's mass infinite.
+Every sum keeps the fixed orders of stages.py (slots, blocks), so runs stay bit-reproducible.
+"""
+import taichi as ti
+
+from . import grid, neighbours
+from .contact import pair_force_damped, plane_force_sticking
+from .materials import normal_damping, pair_mu, pair_restitution, sticking_damping
+from .matvec import matvec
+from .stages import gravity, num_planes, planes_in_reach
+from .state import DAMPING, DT, FRICTION, MATERIAL_TABLE, MATERIALS, MAX_PLANES, STIFFNESS
+
+
+@ti.func
+def is_static(model: ti.template(), b):
+    return model.body_material[b][2] > 0.5
+
+
+@ti.func
+def _body_count(model: ti.template(), state: ti.template(), scratch: ti.template(), b, kind):
+    """Body b's contacts of the last evaluation (kind 0: planes, 1: pairs) in scratch.contacts."""
+    base = state.particle_x.shape[0] + 2 * model.block_start.shape[0]
+    return scratch.contacts[base + 2 * b + kind]
+
+
+@ti.func
+def _pair_mass(model: ti.template(), a, b):
+    """The mass a contact between bodies a and b moves (symmetric in a, b, bit for bit)."""
+    M_a, M_b = model.body_mass[a], model.body_mass[b]
+    m = M_a * M_b / (M_a + M_b)
+    if is_static(model, a):
+        m = M_b
+    if is_static(model, b):
+        m = M_a
+    return m
+
+
+@ti.func
+def _pair_count(model: ti.template(), state: ti.template(), scratch: ti.template(), a, b):
+    """Contacts sharing the pair's load: the larger pair count of its moving sides (at least 1)."""
+    n_a = 0 if is_static(model, a) else _body_count(model, state, scratch, a, 1)
+    n_b = 0 if is_static(model, b) else _body_count(model, state, scratch, b, 1)
+    return ti.max(ti.max(n_a, n_b), 1)
+
+
+@ti.func
+def _material_pair(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(),
+                   a, p, r_a, x_a, v_a, w_a, j):
+    """Slot j (another body's particle) on the particle at p of body a: (force, couple, 1 if it
+    touches now or will after this substep at their closing speed, else 0)."""
+    f = ti.Vector.zero(float, 3)
+    couple = ti.Vector.zero(float, 3)
+    touching = 0
+    b = model.particle_body[j]
+    q, r_b = state.particle_x[j], model.particle_radius[b]
+    d = q - p
+    reach = r_a + r_b
+    k, dt = world.values[STIFFNESS], world.values[DT]
+    if d.dot(d) < reach * reach:
+        m_eff = _pair_mass(model, a, b) / _pair_count(model, state, scratch, a, b)
+        ma, mb = model.body_material[a], model.body_material[b]
+        c = normal_damping(pair_restitution(ma[1], mb[1]), k, m_eff, dt, world.values, MATERIALS + MATERIAL_TABLE,
+                           world.values[DAMPING])
+        mu = pair_mu(ma[0], mb[0], world.values[FRICTION])
+        f, couple, _e = pair_force_damped(p, q, r_a, r_b, x_a, v_a, w_a, state.x[b], state.v[b], state.omega[b],
+                                          k, c, sticking_damping(k, m_eff, dt), mu)
+        touching = 1
+    elif d.dot(d) < 4.0 * reach * reach:  # about to touch? (for the next count)
+        dist = ti.sqrt(d.dot(d))
+        closing = ((v_a + w_a.cross(p - x_a)) - (state.v[b] + state.omega[b].cross(q - state.x[b]))).dot(d) / dist
+        if dist - reach < closing * dt:
+            touching = 1
+    return f, couple, touching
+
+
+@ti.func
+def pair_stage(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(), i):
+    """Stage 3a with materials: slot i's force and couple from its neighbours (the other bodies'
+    particles in its list, neighbours.py; the build's grid where the list overflowed), and how
+    many of them touch it or will after this substep at their closing speed (the next force
+    evaluation's count: a count of those touching only would be 0 on a contact's first substep
+    and over-damp it, 19 % low at e = 0.1 for volume balls head-on; counting them anew before
+    the forces would take a second neighbour search, 75 % more time in a pile)."""
+    a = model.particle_body[i]
+    f = ti.Vector.zero(float, 3)
+    couple = ti.Vector.zero(float, 3)
+    touching = 0
+    if not is_static(model, a):
+        p, r_a = state.particle_x[i], model.particle_radius[a]
+        x_a, v_a, w_a = state.x[a], state.v[a], state.omega[a]
+        stride = neighbours.list_stride(scratch, state)
+        n = scratch.nbr_count[i]
+        if n <= stride:
+            for t in range(n):
+                fp, cp, hit = _material_pair(model, state, world, scratch, a, p, r_a, x_a, v_a, w_a,
+                                             scratch.nbr_list[i * stride + t])
+                f += fp
+                couple += cp
+                touching += hit
+        else:  # the same candidates, in the same order, from the grid of the last build
+            g = grid.cell_coords(scratch, scratch.build_x[i])
+            for dz in range(-1, 2):
+                for dy in range(-1, 2):
+                    for part in range(3):
+                        lo, hi = grid.row_range(scratch, g[0], g[1] + dy, g[2] + dz, part)
+                        for slot in range(lo, hi):
+                            if scratch.sorted_body[slot] != a:
+                                fp, cp, hit = _material_pair(model, state, world, scratch, a, p, r_a, x_a, v_a,
+                                                             w_a, scratch.sorted_particle[slot])
+                                f += fp
+                                couple += cp
+                                touching += hit
+    scratch.particle_f[i] = f
+    scratch.particle_couple[i] = couple
+    scratch.contacts[i] = touching
+
+
+@ti.func
+def block_forces(u: ti.template(), model: ti.template(), state: ti.template(), world: ti.template(),
+                 scratch: ti.template(), k, pairs: ti.template(), step):
+    """Stage 3b with materials for block k: as stages.block_forces, the planes each with its
+    material and sticking spring (``step``: the time this evaluation's force acts, Δt, or RK4's
+    weight of it), and the block's plane and pair contacts counted into partial_count."""
+    b = model.block_body[k]
+    start = model.block_start[k]
+    end = start + model.block_count[k]
+    F = ti.Vector.zero(float, 3)
+    tau = ti.Vector.zero(float, 3)
+    plane_contacts = 0
+    pair_contacts = 0
+    if not is_static(model, b):
+        x, R, v, omega = state.x[b], state.R[b], state.v[b], state.omega[b]
+        near = planes_in_reach(model, state, world, k)
+        m, g = model.particle_mass[b], gravity(world)
+        stiffness, dt = world.values[STIFFNESS], world.values[DT]
+        c_world, mu_world = world.values[DAMPING], world.values[FRICTION]
+        radius = model.particle_radius[b]
+        m_eff = model.body_mass[b] / ti.max(_body_count(model, state, scratch, b, 0), 1)
+        mat = model.body_material[b]
+        ct = sticking_damping(stiffness, m_eff, dt)
+        for i in range(start, end):
+            r0 = ti.Vector([model.r0_x[i], model.r0_y[i], model.r0_z[i]])
+            r = matvec(R, r0)
+            p = x + r
+            pv = v + omega.cross(r)
+            f = u.gravity_force(m, g)
+            for j in range(num_planes(world)):
+                slot = i * MAX_PLANES + j
+                if near & (1 << j):
+                    c = normal_damping(pair_restitution(mat[1], world.values[MATERIALS + 4 * j + 1]), stiffness, m_eff, dt,
+                                       world.values, MATERIALS + MATERIAL_TABLE, c_world)
+                    mu = pair_mu(mat[0], world.values[MATERIALS + 4 * j], mu_world)
+                    fc, slip, touching = plane_force_sticking(p, pv, radius, world.planes[j], stiffness, c, ct, mu,
+                                                              state.plane_slip[slot], step)
+                    f += fc
+                    state.plane_slip[slot] = slip
+                    plane_contacts += touching
+                else:
+                    state.plane_slip[slot] = ti.Vector.zero(float, 3)
+            couple = ti.Vector.zero(float, 3)
+            if ti.static(pairs):
+                f += scratch.particle_f[i]
+                couple = scratch.particle_couple[i]
+                pair_contacts += scratch.contacts[i]
+            F += u.total_force_term(f)
+            tau += u.torque_term(p, x, R, r0, f) + couple
+    scratch.partial_F[k] = F
+    scratch.partial_tau[k] = tau
+    base = state.particle_x.shape[0]
+    scratch.contacts[base + 2 * k] = plane_contacts
+    scratch.contacts[base + 2 * k + 1] = pair_contacts
+
+
+@ti.func
+def count_contacts(model: ti.template(), state: ti.template(), scratch: ti.template(), b):
+    """Body b's contacts (planes, pairs) of this evaluation, for the next one's m_eff."""
+    first = model.body_block_start[b]
+    planes, pairs = 0, 0
+    N, K = state.particle_x.shape[0], model.block_start.shape[0]
+    for k in range(first, first + model.body_block_count[b]):
+        planes += scratch.contacts[N + 2 * k]
+        pairs += scratch.contacts[N + 2 * k + 1]
+    scratch.contacts[N + 2 * K + 2 * b] = planes
+    scratch.contacts[N + 2 * K + 2 * b + 1] = pairs
+
+
+@ti.func
+def count_plane_block(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(), k):
+    """Block k's particles touching the planes now (before the forces, so that a contact's first
+    substep already knows how many share the load: a lagged count of 0 would damp a flat landing
+    on n particles n/√n times too hard for that substep)."""
+    b = model.block_body[k]
+    count = 0
+    if not is_static(model, b):
+        near = planes_in_reach(model, state, world, k)
+        if near:
+            x, R, radius = state.x[b], state.R[b], model.particle_radius[b]
+            start = model.block_start[k]
+            for i in range(start, start + model.block_count[k]):
+                p = x + matvec(R, ti.Vector([model.r0_x[i], model.r0_y[i], model.r0_z[i]]))
+                for j in range(num_planes(world)):
+                    if near & (1 << j):
+                        plane = world.planes[j]
+                        if plane[3] + radius - ti.Vector([plane[0], plane[1], plane[2]]).dot(p) > 0:
+                            count += 1
+    pairs = 0  # and the block's pair contacts (as the last pair stage predicted them; 0 without pairs)
+    for i in range(model.block_start[k], model.block_start[k] + model.block_count[k]):
+        pairs += scratch.contacts[i]
+    scratch.contacts[state.particle_x.shape[0] + 2 * k] = count
+    scratch.contacts[state.particle_x.shape[0] + 2 * k + 1] = pairs
+
+
+@ti.func
+def sum_counts(model: ti.template(), state: ti.template(), scratch: ti.template(), b):
+    """Body b's plane and pair contacts now: the sums of its blocks' (count_plane_block)."""
+    count_contacts(model, state, scratch, b)
