@@ -69,12 +69,6 @@ ModelArgs = _pack_type(dict(
     body_material=("v4", 1)))
 
 
-@ti.func
-def body_offset(model: ti.template(), i):
-    """r0 of particle slot i (body frame, from the centre of mass), from its three columns."""
-    return ti.Vector([model.r0_x[i], model.r0_y[i], model.r0_z[i]])
-
-
 StateArgs = _pack_type(dict(
     x=("v3", 1), q=("v4", 1), P=("v3", 1), L=("v3", 1), v=("v3", 1), omega=("v3", 1),
     R=("m3", 1), inertia_inv=("m3", 1), particle_x=("v3", 1), particle_v=("v3", 1), sleep=("v3i", 1),

@@ -15,9 +15,8 @@ Two schedules run the same stages (stages.py), chosen by schedule.py:
 import taichi as ti
 
 from . import frontend, grid, material_stages, neighbours, schemes, sleep, stages
-from . import arrays
 from .arrays import ModelArgs, RowArgs, ScratchArgs, StateArgs, SurfaceArgs, WorldArgs
-from .matvec import matvec
+from .matvec import body_offset, matvec
 from .state import DT
 from .rows import write_row
 
@@ -233,7 +232,7 @@ class EngineKernels:
             for b in range(model.body_start.shape[0]):
                 total = ti.Matrix.zero(float, 3, 3)
                 for i in range(model.body_start[b], model.body_start[b] + model.body_count[b]):
-                    total += u.particle_inertia(model.particle_mass[b], arrays.body_offset(model, i))
+                    total += u.particle_inertia(model.particle_mass[b], body_offset(model, i))
                 model.inertia_body[b] = total
 
         @ti.kernel

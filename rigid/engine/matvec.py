@@ -16,3 +16,8 @@ def matvec(M, a):
                       M[1, 0] * a[0] + M[1, 1] * a[1] + M[1, 2] * a[2],
                       M[2, 0] * a[0] + M[2, 1] * a[1] + M[2, 2] * a[2]])
 
+
+@ti.func
+def body_offset(model: ti.template(), i):
+    """r0 of particle slot i (body frame, from the centre of mass), from its three columns."""
+    return ti.Vector([model.r0_x[i], model.r0_y[i], model.r0_z[i]])

@@ -7,7 +7,7 @@ most 64 particles, sorted along a Z-order curve). Device arrays (Taichi ndarrays
 is the run's precision, f32 or f64), all read-only during a run:
 
 - ``r0_x``, ``r0_y``, ``r0_z``  [N] float  particle offset from its body's centre of mass, body frame,
-                                    one array per axis (vectorised loops; arrays.body_offset)
+                                    one array per axis (vectorised loops; matvec.body_offset)
 - ``particle_body``      [N] i32    body of each particle
 - ``body_start``, ``body_count``  [B] i32   body b's particles are slots start .. start + count − 1
 - ``particle_mass``      [B] float  mass of each of the body's particles (all equal), kg

@@ -21,8 +21,7 @@ ModelArgs, ``state`` StateArgs, ``scratch`` ScratchArgs for RK4):
 """
 import taichi as ti
 
-from .arrays import body_offset
-from .matvec import matvec
+from .matvec import body_offset, matvec
 from .rotation import quaternion_multiplication, quaternion_to_matrix
 
 RK4_NODES = (0.0, 0.5, 0.5, 1.0)  # c_s: stage s is evaluated at Y₀ + c_s Δt k_{s−1}

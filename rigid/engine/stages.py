@@ -18,10 +18,9 @@ way, so runs are bit-reproducible. A lone body is B = 1: no grid, no pairs.
 import taichi as ti
 
 from . import grid, neighbours, sleep
-from .arrays import body_offset
 from .contact import pair_force, plane_force
 from .grab import grab_share
-from .matvec import matvec
+from .matvec import body_offset, matvec
 from .state import DAMPING, FRICTION, GX, NUM_PLANES, STIFFNESS
 
 # A block's reach test is padded by this fraction of the coordinates' size (~170 float32
