@@ -1,7 +1,7 @@
 """The stages of a substep, for one body or many (Warp's ``eval_*_forces``, Brax's pipeline).
 
   1. place_particles   pᵢ = x + R r0ᵢ, vᵢ = v + ω × R r0ᵢ for every particle slot,
-  2. neighbour lists  rebuilt from a grid when a particle has moved half the skin
+  2. neighbour lists  rebuilt from a grid when two particles may have closed by the skin
                        (neighbours.py), and 3a. pair_stage: each particle's force and couple
                        from other bodies' particles (contact.py); 1-3a only when bodies collide
   3b. block_forces     per block: fᵢ = TODO 2 (m g) + the static planes in reach + the pair
