@@ -195,18 +195,15 @@ def load_scene(path: str | Path) -> dict:
     camera = data.pop("camera", None)  # checked by rigid/view/camera.py (its keys are the view's)
     if camera is not None and not isinstance(camera, dict):
         raise UserError(f"scene file {path}: 'camera' must be a [camera] table (position, look_at, fov, follow)")
-    planes, statics = data.pop("plane", []), data.pop("static", [])
-    for name, given in (("plane", planes), ("static", statics)):
+    planes, statics, tables = data.pop("plane", []), data.pop("static", []), data.pop("body", [])
+    for name, given, what in (("plane", planes, ""), ("static", statics, ""), ("body", tables, ", one per body")):
         if not isinstance(given, list) or not all(isinstance(t, dict) for t in given):
-            raise UserError(f"scene file {path}: '{name}' must be [[{name}]] tables")
+            raise UserError(f"scene file {path}: '{name}' must be [[{name}]] tables{what}")
     if planes:
         data["planes"] = tuple(planes)
     if statics:
         data["statics"] = tuple({**t, "mesh": resolve_mesh(path, t["mesh"])} if isinstance(t.get("mesh"), str)
                                 else t for t in statics)
-    tables = data.pop("body", [])
-    if not isinstance(tables, list) or not all(isinstance(b, dict) for b in tables):
-        raise UserError(f"scene file {path}: 'body' must be [[body]] tables, one per body")
     _check_table(path, data, "")
     bodies = []
     for i, table in enumerate(tables):

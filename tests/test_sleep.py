@@ -43,6 +43,22 @@ def test_a_settled_pile_falls_asleep_exactly_at_rest(settled):
     assert np.all(row["x"][:, 1] > -1.0 + 0.1)
 
 
+def test_the_window_draws_sleepers_greyer_and_the_toggle_restores_their_colours(settled):
+    from rigid.view.render import SLEEP_GREY, SceneRenderer, body_palette
+
+    sim = settled
+    assert sim.asleep().all()
+    renderer = SceneRenderer(sim, (64, 48), offscreen=True)
+    m = sim.model
+    palette = body_palette(m.num_bodies)[m.surface_body_np]
+    renderer.draw()
+    greyed = renderer.vertex_colors.to_numpy()
+    np.testing.assert_allclose(greyed, 0.5 * palette + 0.5 * SLEEP_GREY, atol=1e-6)
+    renderer.grey_sleepers = False  # the panel's checkbox
+    renderer.draw()
+    np.testing.assert_allclose(renderer.vertex_colors.to_numpy(), palette, atol=1e-6)
+
+
 def test_a_kick_wakes_the_body_and_a_moving_body_wakes_the_sleepers_it_touches(settled):
     sim = settled
     assert sim.asleep().all()

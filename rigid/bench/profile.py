@@ -18,7 +18,7 @@ import time
 def _kernels(units):
     import taichi as ti
 
-    from ..engine import grid, neighbours, schemes, stages
+    from ..engine import grid, neighbours, pair_stages, schemes, stages
     from ..engine.arrays import ModelArgs, ScratchArgs, StateArgs, WorldArgs
 
     M, S, W, C = ModelArgs(), StateArgs(), WorldArgs(), ScratchArgs()
@@ -28,8 +28,8 @@ def _kernels(units):
     def place(model: M, state: S, scratch: C, reps: ti.i32):
         ti.loop_config(serialize=True)
         for _ in range(reps):
-            stages.note_motion(state, scratch, False)
-            stages.place_for_pairs(model, state, scratch, False)
+            pair_stages.note_motion(state, scratch, False)
+            pair_stages.place_for_pairs(model, state, scratch, False)
 
     @ti.kernel
     def rebuild(model: M, state: S, scratch: C, reps: ti.i32):
@@ -57,7 +57,7 @@ def _kernels(units):
         ti.loop_config(serialize=True)
         for _ in range(reps):
             for t in range(neighbours.num_active(scratch)):
-                stages.pair_stage(model, state, world, scratch, scratch.active[t], False)
+                pair_stages.pair_stage(model, state, world, scratch, scratch.active[t], False)
 
     @ti.kernel
     def blocks(model: M, state: S, world: W, scratch: C, reps: ti.i32):

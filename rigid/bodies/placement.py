@@ -49,6 +49,13 @@ class BodySpec:
     static: bool = False  # a [[static]] mesh (rigid.bodies.statics)
     group: tuple | None = None  # (entry, copy) of the meshes one file places together
 
+    @classmethod
+    def from_geometry(cls, config, geometry: BodyGeometry) -> "BodySpec":
+        """The one body ``geometry`` at the config's pose, velocities, mass and radius."""
+        return cls("body", geometry, config.particle_mass, config.particle_radius or 0.0,
+                   *(np.asarray(getattr(config, k), float) for k in
+                     ("position", "orientation", "initial_velocity", "initial_angular_velocity")))
+
     @property
     def centre_of_mass(self) -> np.ndarray:
         return self.geometry.particles.mean(axis=0)

@@ -14,7 +14,7 @@ Two schedules run the same stages (stages.py), chosen by schedule.py:
 
 import taichi as ti
 
-from . import frontend, grid, material_stages, neighbours, schemes, sleep, stages
+from . import frontend, grid, material_stages, neighbours, pair_stages, schemes, sleep, stages
 from .arrays import ModelArgs, RowArgs, ScratchArgs, StateArgs, SurfaceArgs, WorldArgs
 from .matvec import body_offset, matvec
 from .state import DT
@@ -55,8 +55,8 @@ class EngineKernels:
             ``everything`` or a rebuild), and the neighbour lists rebuilt (grid and lists) if a
             particle may have moved half the skin since their last build."""
             if ti.static(pairs):
-                stages.note_motion(state, scratch, parallel)
-                stages.place_for_pairs(model, state, scratch, everything)
+                pair_stages.note_motion(state, scratch, parallel)
+                pair_stages.place_for_pairs(model, state, scratch, everything)
                 grid.clear_and_count(scratch, state, neighbours.rebuild_gate(scratch))
                 if ti.static(parallel):
                     grid.finish_parallel(scratch, model, state, neighbours.rebuild_gate(scratch))
@@ -98,15 +98,15 @@ class EngineKernels:
                         material_stages.pair_stage(model, state, world, scratch, i)
                     elif ti.static(sleeping):  # awake bodies; they mark the sleepers a moving one touches
                         if not sleep.asleep(state, model.particle_body[i]):
-                            stages.pair_stage(model, state, world, scratch, i, True)
+                            pair_stages.pair_stage(model, state, world, scratch, i, True)
                     else:
-                        stages.pair_stage(model, state, world, scratch, i, False)
+                        pair_stages.pair_stage(model, state, world, scratch, i, False)
                 if ti.static(sleeping):
                     for t in range(neighbours.num_active(scratch)):  # the sleepers woken just now
                         i = scratch.active[t]
                         b = model.particle_body[i]
                         if sleep.asleep(state, b) and not sleep.resting(state, b):
-                            stages.pair_stage(model, state, world, scratch, i, False)
+                            pair_stages.pair_stage(model, state, world, scratch, i, False)
             for k in range(model.block_start.shape[0]):
                 if ti.static(materials):
                     material_stages.block_forces(u, model, state, world, scratch, k, pairs,

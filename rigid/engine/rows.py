@@ -65,3 +65,14 @@ def split_rows(body: np.ndarray) -> dict:
         out[name] = body[:, :, start:start + width]
         start += width
     return out
+
+
+def with_energies(rows: dict, contact: np.ndarray, times, gravity, moving_mass) -> dict:
+    """A block of rows (split_rows) with ``t`` and the energies, float64, computed the same way for
+    every block: kinetic ½ P·v + ½ L·ω, potential −M g·x of the moving bodies (``moving_mass`` (B,),
+    0 for a static one) + the contact springs' (``contact`` (k,))."""
+    P, v, L, omega, x = rows["P"], rows["v"], rows["L"], rows["omega"], rows["x"]
+    k = len(times)
+    kinetic = 0.5 * (P * v).reshape(k, -1).sum(axis=1) + 0.5 * (L * omega).reshape(k, -1).sum(axis=1)
+    potential = -((x @ np.asarray(gravity)) @ moving_mass) + contact
+    return dict(t=np.asarray(times, np.float64), **rows, kinetic_energy=kinetic, potential_energy=potential)

@@ -13,21 +13,19 @@ axis. (The NPZ export keeps one body's rows as (F, 3): rigid.run.diagnostics.)
 from __future__ import annotations
 
 import numpy as np
-import taichi as ti
 
 from ..bodies.mesh import BodyGeometry
 from ..bodies.colliders import check_colliders, uses_materials
 from ..bodies.overlap import check_start
 from ..bodies.placement import BodySpec, check_inside_box, scene_bodies
 from ..bodies.statics import static_bodies
-from . import neighbours
-from .arrays import ScratchArgs, device_array, host_float, zeros
+from .arrays import host_float
 from .grab import default_spring, holding, released
-from .grid import GridShape
 from .kernels import engine_kernels
+from .scratch import make_scratch
 from .launch import PreparedLaunch
 from .model import BodyParts, Model
-from .rows import FrameRows, split_rows
+from .rows import FrameRows, split_rows, with_energies
 from .schedule import choose_schedule
 from .state import Params, State
 from .units import check_units
@@ -50,10 +48,7 @@ class Simulator:
         self.config, self.units = config, units
         self._bodies_from_config = bodies is None and geometry is None
         if geometry is not None:
-            bodies = [BodySpec("body", geometry, config.particle_mass, config.particle_radius or 0.0,
-                               np.asarray(config.position, float), np.asarray(config.orientation, float),
-                               np.asarray(config.initial_velocity, float),
-                               np.asarray(config.initial_angular_velocity, float))]
+            bodies = [BodySpec.from_geometry(config, geometry)]
         self.bodies = scene_bodies(config) if bodies is None else list(bodies)
         self.bodies += static_bodies(config, self.bodies)
         if config.walls:
@@ -69,45 +64,12 @@ class Simulator:
         self.state = State(B, N, materials)
         self.params = Params(config)
         self.rows = FrameRows(B)
-        self._scratch(B, N, pairs)
+        self.scratch, self._scratch_arrays, self.grid_shape, self.cell_size = make_scratch(
+            self.model, config, pairs, self.materials)
         self.schedule = choose_schedule(N, pairs, schedule)
         self._launches = None
         self._surface_out = np.empty((max(self.model.num_surface, 1), 3), host_float())
         self.reset()
-
-    def _scratch(self, B: int, N: int, pairs: bool):
-        """The arrays a substep rewrites (forces, partial sums, the grid, RK4)."""
-        diameter = 2.0 * max(float(self.model.radius_np.max()), 1e-6)
-        skin = neighbours.SKIN_FRACTION * diameter
-        cell = diameter + skin
-        span = 2.0 * self.config.wall / cell + 2 if self.config.walls else 0.0
-        shape = GridShape.for_particles(N, pairs, span)
-        lists = N * neighbours.NEIGHBOURS_PER_PARTICLE if pairs else 1
-        arrays = dict(particle_f=zeros(N, "v3"), particle_couple=zeros(N, "v3"), block_energy=zeros(self.model.num_blocks),
-                      partial_F=zeros(self.model.num_blocks, "v3"), partial_tau=zeros(self.model.num_blocks, "v3"),
-                      cell_count=zeros(shape.num_cells, "i"), cell_start=zeros(shape.num_cells + 1, "i"),
-                      particle_cell=zeros(N, "i"),
-                      sorted_particle=zeros(N, "i"), sorted_x=zeros(N if pairs else 1, "v3"),
-                      sorted_body=zeros(N if pairs else 1, "i"), chunk_total=zeros(shape.num_chunks + 1, "i"),
-                      grid_dims=device_array(np.array([shape.dim, shape.num_cells, shape.num_chunks]), dtype=ti.i32),
-                      grid_params=device_array(np.array([1.0 / cell, skin, neighbours.ALLOWED_MOTION * skin])),
-                      nbr_count=zeros(N if pairs else 1, "i"), nbr_list=zeros(lists, "i"),
-                      build_x=zeros(N if pairs else 1, "v3"), nbr_flags=zeros(3, "i"),
-                      active=zeros(N if pairs else 1, "i"), build_pose=device_array(self._build_pose(), 13),
-                      rk=zeros(2 * B, "v13"),
-                      contacts=zeros(N + 2 * self.model.num_blocks + 2 * B if self.materials else 1, "i"))
-        self.grid_shape, self.cell_size = shape, cell
-        self._scratch_arrays = arrays
-        self.scratch = ScratchArgs()(**{name: arrays[name] for name in ScratchArgs.NAMES})
-
-    def _build_pose(self) -> np.ndarray:
-        """(B, 13) the neighbour lists' pose per body (set at each build), with ρ_b, the body's
-        largest particle offset |r0| (rounded up), in its last slot (neighbours.py)."""
-        m = self.model
-        norms = np.linalg.norm(m.r0_np, axis=1)
-        pose = np.zeros((m.num_bodies, 13))
-        pose[:, 12] = [norms[s:s + c].max() * (1 + 1e-6) + 1e-9 for s, c in zip(m.body_start_np, m.body_count_np)]
-        return pose
 
     # -- sizes ------------------------------------------------------------------------------
     @property
@@ -331,14 +293,7 @@ class Simulator:
         return self._surface_out
 
     def _block(self, times: list) -> dict:
-        """The rows of the last launch, with the energies (float64, computed here, the same way for
-        every block: kinetic ½ P·v + ½ L·ω, potential −M g·x of the moving bodies + the contact
-        springs')."""
+        """The rows of the last launch, with the energies (rows.with_energies)."""
         body, contact = self.rows.read(len(times), self.kernels)
-        rows = split_rows(body)
-        g = self.params.gravity
-        P, v, L, omega, x = rows["P"], rows["v"], rows["L"], rows["omega"], rows["x"]
-        k = len(times)
-        kinetic = 0.5 * (P * v).reshape(k, -1).sum(axis=1) + 0.5 * (L * omega).reshape(k, -1).sum(axis=1)
-        potential = -((x @ g) @ np.where(self.model.static_np, 0.0, self.model.body_mass_np)) + contact
-        return dict(t=np.asarray(times, np.float64), **rows, kinetic_energy=kinetic, potential_energy=potential)
+        return with_energies(split_rows(body), contact, times, self.params.gravity,
+                             np.where(self.model.static_np, 0.0, self.model.body_mass_np))

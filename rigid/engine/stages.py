@@ -3,7 +3,8 @@
   1. place_particles   pᵢ = x + R r0ᵢ, vᵢ = v + ω × R r0ᵢ for every particle slot,
   2. neighbour lists  rebuilt from a grid when two particles may have closed by the skin
                        (neighbours.py), and 3a. pair_stage: each particle's force and couple
-                       from other bodies' particles (contact.py); 1-3a only when bodies collide
+                       from other bodies' particles (contact.py); 1-3a only when bodies
+                       collide, in pair_stages.py
   3b. block_forces     per block: fᵢ = TODO 2 (m g) + the static planes in reach + the pair
                        force, then the block's share of F = Σ TODO 3 (fᵢ) and
                        τ = Σ TODO 4 (pᵢ, x, R, r0ᵢ, fᵢ) + the pairs' couples
@@ -17,8 +18,8 @@ way, so runs are bit-reproducible. A lone body is B = 1: no grid, no pairs.
 """
 import taichi as ti
 
-from . import grid, neighbours, sleep
-from .contact import pair_force, plane_force
+from . import pair_stages
+from .contact import plane_force
 from .grab import grab_share
 from .matvec import body_offset, matvec
 from .state import DAMPING, FRICTION, GX, NUM_PLANES, STIFFNESS
@@ -60,33 +61,6 @@ def place_particles(model: ti.template(), state: ti.template()):
 
 
 @ti.func
-def note_motion(state: ti.template(), scratch: ti.template(), parallel: ti.template()):
-    """Stage 1a (bodies in contact): whether the neighbour lists must be rebuilt (neighbours.py),
-    on one thread (a parallel kernel's top level would split its loops)."""
-    if ti.static(parallel):
-        ti.loop_config(serialize=True)
-        for _ in range(1):
-            neighbours.note_motion(scratch, state)
-    else:
-        neighbours.note_motion(scratch, state)
-
-
-@ti.func
-def place_for_pairs(model: ti.template(), state: ti.template(), scratch: ti.template(), everything: ti.template()):
-    """Stage 1b (bodies in contact): every particle placed if the lists are rebuilt now or
-    ``everything`` (a frame's end), else only the active ones (the pair stage reads no other)."""
-    gate = neighbours.rebuild_gate(scratch)
-    if ti.static(everything):
-        gate = 1
-    for i in range(state.particle_x.shape[0] * gate):
-        place_particle(model, state, i)
-    for t in range(neighbours.num_active(scratch) * (1 - gate)):
-        i = scratch.active[t]
-        if not sleep.asleep(state, model.particle_body[i]):  # a sleeper's particles stay where they are
-            place_particle(model, state, i)
-
-
-@ti.func
 def planes_in_reach(model: ti.template(), state: ti.template(), world: ti.template(), k):
     """Bit j set where a particle's sphere of block k may touch plane j (a NaN sets every bit).
 
@@ -112,81 +86,8 @@ def planes_in_reach(model: ti.template(), state: ti.template(), world: ti.templa
     return near
 
 
-@ti.func
-def _pair_with(model: ti.template(), state: ti.template(), p, r_a, x_a, v_a, w_a, k, kd, mu, j):
-    """pair_force of slot j on the particle at p, its body's state loaded only when the spheres
-    overlap (most candidates do not: then exactly the zeros pair_force would give)."""
-    f = ti.Vector.zero(float, 3)
-    c = ti.Vector.zero(float, 3)
-    e = 0.0
-    b = model.particle_body[j]
-    p_j, r_b = state.particle_x[j], model.particle_radius[b]
-    d = p_j - p
-    reach = r_a + r_b
-    if d.dot(d) < reach * reach:
-        f, c, e = pair_force(p, p_j, r_a, r_b, x_a, v_a, w_a, state.x[b], state.v[b], state.omega[b], k, kd, mu)
-    return f, c, e
-
-
-@ti.func
-def pair_forces(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(), i,
-                wake: ti.template()):
-    """Σ over slot i's neighbours (other bodies' particles, neighbours.py) of (force, couple about
-    pᵢ, contact energy), in list order; a particle whose list overflowed walks the build's grid.
-    With ``wake``, a moving body marks the sleeping bodies it touches as woken (sleep.py)."""
-    a = model.particle_body[i]
-    p, r_a = state.particle_x[i], model.particle_radius[a]
-    k, kd, mu = contact_constants(world)
-    x_a, v_a, w_a = state.x[a], state.v[a], state.omega[a]
-    f = ti.Vector.zero(float, 3)
-    couple = ti.Vector.zero(float, 3)
-    energy = 0.0
-    stride = neighbours.list_stride(scratch, state)
-    n = scratch.nbr_count[i]
-    waker = 0
-    if ti.static(wake):
-        waker = sleep.moving(state, world, scratch, a)
-    if n <= stride:
-        for t in range(n):
-            j = scratch.nbr_list[i * stride + t]
-            fp, cp, ep = _pair_with(model, state, p, r_a, x_a, v_a, w_a, k, kd, mu, j)
-            if ti.static(wake):
-                if waker and ep > 0 and sleep.asleep(state, model.particle_body[j]):
-                    sleep.mark_woken(state, model.particle_body[j])
-            f += fp
-            couple += cp
-            energy += ep
-    else:  # the same candidates, in the same order, from the grid of the last build
-        g = grid.cell_coords(scratch, scratch.build_x[i])
-        for dz in range(-1, 2):
-            for dy in range(-1, 2):
-                for part in range(3):
-                    lo, hi = grid.row_range(scratch, g[0], g[1] + dy, g[2] + dz, part)
-                    for slot in range(lo, hi):
-                        if scratch.sorted_body[slot] != a:
-                            j = scratch.sorted_particle[slot]
-                            fp, cp, ep = _pair_with(model, state, p, r_a, x_a, v_a, w_a, k, kd, mu, j)
-                            if ti.static(wake):
-                                if waker and ep > 0 and sleep.asleep(state, model.particle_body[j]):
-                                    sleep.mark_woken(state, model.particle_body[j])
-                            f += fp
-                            couple += cp
-                            energy += ep
-    return f, couple, energy
-
-
 FAR = 1e30  # offset of a stand-in plane: behind it lie only coordinates below -1e30 (finite in f32)
 NEAR_SLOTS = 3  # planes a block's loop tests with its slots unrolled (the box: floor, one x, one z wall)
-
-
-@ti.func
-def pair_stage(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(), i,
-               wake: ti.template()):
-    """Stage 3a (bodies in contact): slot i's force and couple from other bodies' particles
-    (``wake``: and the sleepers it wakes, sleep.py)."""
-    fp, cp, _e = pair_forces(model, state, world, scratch, i, wake)
-    scratch.particle_f[i] = fp
-    scratch.particle_couple[i] = cp
 
 
 @ti.func
@@ -310,6 +211,6 @@ def block_contact_energy(model: ti.template(), state: ti.template(), world: ti.t
                                         stiffness, kd, mu)
                     energy += e
         if ti.static(pairs):
-            _f, _c, e = pair_forces(model, state, world, scratch, i, False)
+            _f, _c, e = pair_stages.pair_forces(model, state, world, scratch, i, False)
             energy += e
     return energy

@@ -24,6 +24,7 @@ class ControlPanel:
         self.rng = np.random.default_rng(seed)
         self.paused = False
         self.wireframe = False
+        self.grey_sleepers = True  # sleeping bodies greyer (the renderer's grey_sleepers)
         self.message = ""  # e.g. the last blow-up, shown in red
         self._snap, self._snap_at, self._snap_frame = None, -1e9, -1
 
@@ -75,6 +76,9 @@ class ControlPanel:
             gravity = prm.gravity.copy()
             gravity_y = w.slider_float("gravity y", float(gravity[1]), -30.0, 0.0)
             self.wireframe = w.checkbox("wireframe", self.wireframe)
+            if sim.many:
+                asleep = int(sim.asleep().sum())
+                self.grey_sleepers = w.checkbox(f"grey sleeping bodies ({asleep} asleep)", self.grey_sleepers)
             self.paused = w.checkbox("paused (space)", self.paused)
             pressed["reset"] = w.button("reset (r)")
             pressed["kick"] = w.button("random kick (k)")

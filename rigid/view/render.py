@@ -26,6 +26,7 @@ from .vulkan import INSTALL_HINT, require_vulkan
 
 BACKGROUND = (1.0, 1.0, 1.0)
 BODY_COLOR = (0.93, 0.47, 0.18)
+SLEEP_GREY = np.array([0.62, 0.62, 0.62])  # a sleeping body's colour is halfway to this
 BOX_COLOR = (0.25, 0.3, 0.4)
 TILE_COLORS = ((0.86, 0.87, 0.9), (0.74, 0.76, 0.8))
 FLOOR_TILES = 8  # per side
@@ -71,10 +72,12 @@ class SceneRenderer:
             np.concatenate(m.surfaces_np), m.faces_np, m.surface_body_np[m.faces_np[:, 0]])
         self.particles = ti.Vector.field(3, ti.f32, shape=m.num_particles)
         self.vertex_colors = self.particle_colors = None
+        self.grey_sleepers = True  # sleeping bodies (rigid.engine.sleep) drawn greyer; the panel toggles it
+        self._shown_asleep = None
         if sim.many:  # each body its own colour (body_palette)
-            palette = body_palette(m.num_bodies)
-            self.vertex_colors = _vec_field(palette[m.surface_body_np]) if m.num_surface else None
-            self.particle_colors = _vec_field(palette[sim.particle_bodies()])
+            self.palette = body_palette(m.num_bodies)
+            self.vertex_colors = _vec_field(self.palette[m.surface_body_np]) if m.num_surface else None
+            self.particle_colors = _vec_field(self.palette[sim.particle_bodies()])
         # Under each body a soft shadow on the floor (shadow.py); none without walls (no floor drawn).
         self.shadows = None
         if sim.params.walls:
@@ -110,9 +113,24 @@ class SceneRenderer:
         grid += [[(-GRID_HALF_WIDTH, floor, t), (GRID_HALF_WIDTH, floor, t)] for t in ticks]
         self.grid_lines = _vec_field(np.array(grid).reshape(-1, 3))
 
+    def _colour_sleepers(self) -> None:
+        """Each body's colour, halfway to grey while it sleeps (if grey_sleepers); the colour
+        fields are rewritten only when the set of sleepers changes."""
+        sim, m = self.sim, self.sim.model
+        asleep = sim.asleep() if self.grey_sleepers else np.zeros(m.num_bodies, bool)
+        if self._shown_asleep is not None and np.array_equal(asleep, self._shown_asleep):
+            return
+        self._shown_asleep = asleep
+        colours = np.where(asleep[:, None], 0.5 * self.palette + 0.5 * SLEEP_GREY, self.palette)
+        if self.vertex_colors is not None:
+            self.vertex_colors.from_numpy(colours[m.surface_body_np].astype(np.float32))
+        self.particle_colors.from_numpy(colours[sim.particle_bodies()].astype(np.float32))
+
     def draw(self) -> None:
         """Draw this frame's scene into the picture (and the window's canvas, if shown)."""
         sim, raster = self.sim, self.raster
+        if sim.many:
+            self._colour_sleepers()
         self.camera.update()
         raster.begin(self.orbit.position(), self.orbit.target, fov_deg=self.orbit.fov, light=LIGHT,
                      ambient=AMBIENT, background=BACKGROUND)

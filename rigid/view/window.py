@@ -164,6 +164,7 @@ class _WindowLoop:
         grabbing = self.grab.track(self.window.get_cursor_pos(), self.window.is_pressed(ti.ui.LMB))
         self.renderer.spring = self.grab.spring()
         self.renderer.wireframe = self.panel.wireframe
+        self.renderer.grey_sleepers = self.panel.grey_sleepers
         self.renderer.draw()
         pressed = self.panel.draw(self.window.get_gui(), self.fps, self.timing)
         pressed["grabbing"] = grabbing

@@ -1,0 +1,109 @@
+"""The stages of a substep that exist only when bodies collide (stages.py lists them all):
+1a ``note_motion`` (must the neighbour lists be rebuilt?), 1b ``place_for_pairs`` (the
+particles the pair stage reads), 3a ``pair_stage`` (each particle's force and couple from the
+other bodies' particles in its neighbour list, neighbours.py; the law is contact.py's), and
+``pair_forces``, which the frame's contact energy also sums."""
+import taichi as ti
+
+from . import grid, neighbours, sleep, stages
+from .contact import pair_force
+
+
+@ti.func
+def note_motion(state: ti.template(), scratch: ti.template(), parallel: ti.template()):
+    """Stage 1a (bodies in contact): whether the neighbour lists must be rebuilt (neighbours.py),
+    on one thread (a parallel kernel's top level would split its loops)."""
+    if ti.static(parallel):
+        ti.loop_config(serialize=True)
+        for _ in range(1):
+            neighbours.note_motion(scratch, state)
+    else:
+        neighbours.note_motion(scratch, state)
+
+
+@ti.func
+def place_for_pairs(model: ti.template(), state: ti.template(), scratch: ti.template(), everything: ti.template()):
+    """Stage 1b (bodies in contact): every particle placed if the lists are rebuilt now or
+    ``everything`` (a frame's end), else only the active ones (the pair stage reads no other)."""
+    gate = neighbours.rebuild_gate(scratch)
+    if ti.static(everything):
+        gate = 1
+    for i in range(state.particle_x.shape[0] * gate):
+        stages.place_particle(model, state, i)
+    for t in range(neighbours.num_active(scratch) * (1 - gate)):
+        i = scratch.active[t]
+        if not sleep.asleep(state, model.particle_body[i]):  # a sleeper's particles stay where they are
+            stages.place_particle(model, state, i)
+
+
+@ti.func
+def _pair_with(model: ti.template(), state: ti.template(), p, r_a, x_a, v_a, w_a, k, kd, mu, j):
+    """pair_force of slot j on the particle at p, its body's state loaded only when the spheres
+    overlap (most candidates do not: then exactly the zeros pair_force would give)."""
+    f = ti.Vector.zero(float, 3)
+    c = ti.Vector.zero(float, 3)
+    e = 0.0
+    b = model.particle_body[j]
+    p_j, r_b = state.particle_x[j], model.particle_radius[b]
+    d = p_j - p
+    reach = r_a + r_b
+    if d.dot(d) < reach * reach:
+        f, c, e = pair_force(p, p_j, r_a, r_b, x_a, v_a, w_a, state.x[b], state.v[b], state.omega[b], k, kd, mu)
+    return f, c, e
+
+
+@ti.func
+def pair_forces(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(), i,
+                wake: ti.template()):
+    """Σ over slot i's neighbours (other bodies' particles, neighbours.py) of (force, couple about
+    pᵢ, contact energy), in list order; a particle whose list overflowed walks the build's grid.
+    With ``wake``, a moving body marks the sleeping bodies it touches as woken (sleep.py)."""
+    a = model.particle_body[i]
+    p, r_a = state.particle_x[i], model.particle_radius[a]
+    k, kd, mu = stages.contact_constants(world)
+    x_a, v_a, w_a = state.x[a], state.v[a], state.omega[a]
+    f = ti.Vector.zero(float, 3)
+    couple = ti.Vector.zero(float, 3)
+    energy = 0.0
+    stride = neighbours.list_stride(scratch, state)
+    n = scratch.nbr_count[i]
+    waker = 0
+    if ti.static(wake):
+        waker = sleep.moving(state, world, scratch, a)
+    if n <= stride:
+        for t in range(n):
+            j = scratch.nbr_list[i * stride + t]
+            fp, cp, ep = _pair_with(model, state, p, r_a, x_a, v_a, w_a, k, kd, mu, j)
+            if ti.static(wake):
+                if waker and ep > 0 and sleep.asleep(state, model.particle_body[j]):
+                    sleep.mark_woken(state, model.particle_body[j])
+            f += fp
+            couple += cp
+            energy += ep
+    else:  # the same candidates, in the same order, from the grid of the last build
+        g = grid.cell_coords(scratch, scratch.build_x[i])
+        for dz in range(-1, 2):
+            for dy in range(-1, 2):
+                for part in range(3):
+                    lo, hi = grid.row_range(scratch, g[0], g[1] + dy, g[2] + dz, part)
+                    for slot in range(lo, hi):
+                        if scratch.sorted_body[slot] != a:
+                            j = scratch.sorted_particle[slot]
+                            fp, cp, ep = _pair_with(model, state, p, r_a, x_a, v_a, w_a, k, kd, mu, j)
+                            if ti.static(wake):
+                                if waker and ep > 0 and sleep.asleep(state, model.particle_body[j]):
+                                    sleep.mark_woken(state, model.particle_body[j])
+                            f += fp
+                            couple += cp
+                            energy += ep
+    return f, couple, energy
+
+
+@ti.func
+def pair_stage(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(), i,
+               wake: ti.template()):
+    """Stage 3a (bodies in contact): slot i's force and couple from other bodies' particles
+    (``wake``: and the sleepers it wakes, sleep.py)."""
+    fp, cp, _e = pair_forces(model, state, world, scratch, i, wake)
+    scratch.particle_f[i] = fp
+    scratch.particle_couple[i] = cp

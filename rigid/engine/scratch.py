@@ -1,0 +1,43 @@
+"""The arrays a substep rewrites (ScratchArgs: forces, partial sums, the grid, the neighbour
+lists, RK4, the material contacts' counts), sized for a Model and a scene. What each holds:
+arrays.py, grid.py, neighbours.py, material_stages.py."""
+from __future__ import annotations
+
+import numpy as np
+import taichi as ti
+
+from . import neighbours
+from .arrays import ScratchArgs, device_array, zeros
+from .grid import GridShape
+
+
+def make_scratch(model, config, pairs: bool, materials: bool):
+    """(ScratchArgs pack, its arrays by name, the GridShape, the grid's cell size in m)."""
+    B, N, K = model.num_bodies, model.num_particles, model.num_blocks
+    diameter = 2.0 * max(float(model.radius_np.max()), 1e-6)
+    skin = neighbours.SKIN_FRACTION * diameter
+    cell = diameter + skin
+    span = 2.0 * config.wall / cell + 2 if config.walls else 0.0
+    shape = GridShape.for_particles(N, pairs, span)
+    lists = N * neighbours.NEIGHBOURS_PER_PARTICLE if pairs else 1
+    paired = N if pairs else 1  # per particle, only when bodies collide
+    arrays = dict(particle_f=zeros(N, "v3"), particle_couple=zeros(N, "v3"), block_energy=zeros(K),
+                  partial_F=zeros(K, "v3"), partial_tau=zeros(K, "v3"),
+                  cell_count=zeros(shape.num_cells, "i"), cell_start=zeros(shape.num_cells + 1, "i"),
+                  particle_cell=zeros(N, "i"), sorted_particle=zeros(N, "i"), sorted_x=zeros(paired, "v3"),
+                  sorted_body=zeros(paired, "i"), chunk_total=zeros(shape.num_chunks + 1, "i"),
+                  grid_dims=device_array(np.array([shape.dim, shape.num_cells, shape.num_chunks]), dtype=ti.i32),
+                  grid_params=device_array(np.array([1.0 / cell, skin, neighbours.ALLOWED_MOTION * skin])),
+                  nbr_count=zeros(paired, "i"), nbr_list=zeros(lists, "i"), build_x=zeros(paired, "v3"),
+                  nbr_flags=zeros(3, "i"), active=zeros(paired, "i"), build_pose=device_array(build_pose(model), 13),
+                  rk=zeros(2 * B, "v13"), contacts=zeros(N + 2 * K + 2 * B if materials else 1, "i"))
+    return ScratchArgs()(**{name: arrays[name] for name in ScratchArgs.NAMES}), arrays, shape, cell
+
+
+def build_pose(model) -> np.ndarray:
+    """(B, 13) the neighbour lists' pose per body (set at each build), with ρ_b, the body's
+    largest particle offset |r0| (rounded up), in its last slot (neighbours.py)."""
+    norms = np.linalg.norm(model.r0_np, axis=1)
+    pose = np.zeros((model.num_bodies, 13))
+    pose[:, 12] = [norms[s:s + c].max() * (1 + 1e-6) + 1e-9 for s, c in zip(model.body_start_np, model.body_count_np)]
+    return pose
