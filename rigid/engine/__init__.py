@@ -3,14 +3,18 @@
   arrays.py     the argument packs the kernels take (Model, State, World, Scratch, Rows)
   model.py      static data (Model); state.py: per-step State and runtime Params (+ the box's planes)
   blocks.py     particles in compact blocks (the unit of work and of summation)
-  stages.py     the stages of a substep; contact.py: the one contact law; grid.py, scan.py: neighbours
+  scratch.py    the arrays a substep rewrites (forces, grid, lists, RK4), sized for a scene
+  stages.py     the stages of a substep; pair_stages.py: those only bodies in contact need
+  contact.py    the one contact law; grid.py, scan.py, neighbours.py: the grid and neighbour lists
+  sleep.py      bodies at rest stop being integrated until something touches them
   grab.py       the mouse's spring on one particle (runtime values in WorldArgs.values)
   materials.py  restitution e -> each contact's damper, the pair rules; material_stages.py: the force
                 stages when a scene sets materials, planes or static meshes
   schemes.py    the updates from (F, τ): explicit Euler (TODO 5-7), symplectic Euler, RK4
   kernels.py    the kernels, cached per (TODO units, scheme); schedule.py: serial or parallel
   rows.py       a row of state per frame, for the host; simulator.py: the facade
-  units.py      the TODO units' contract; rotation.py, matvec.py: helpers
+  units.py      the TODO units' contract; rotation.py, matvec.py: helpers; frontend.py: Taichi's
+                frontend formats each AST node's debug string once (compiles cheaper to repeat)
 
 May import the base modules (``rigid.config``, ``rigid.errors``) and ``rigid.bodies``; never
 ``run``, ``view``, ``science``, ``bench``, ``report``, ``grading`` or the CLI: no drawing, no files.
