@@ -27,6 +27,7 @@ from .vulkan import INSTALL_HINT, require_vulkan
 BACKGROUND = (1.0, 1.0, 1.0)
 BODY_COLOR = (0.93, 0.47, 0.18)
 SLEEP_GREY = np.array([0.62, 0.62, 0.62])  # a sleeping body's colour is halfway to this
+STATIC_COLOR = (0.70, 0.71, 0.74)
 BOX_COLOR = (0.25, 0.3, 0.4)
 TILE_COLORS = ((0.86, 0.87, 0.9), (0.74, 0.76, 0.8))
 FLOOR_TILES = 8  # per side
@@ -76,6 +77,7 @@ class SceneRenderer:
         self._shown_asleep = None
         if sim.many:  # each body its own colour (body_palette)
             self.palette = body_palette(m.num_bodies)
+            self.palette[m.static_np] = STATIC_COLOR  # [[static]] meshes: the scenery, not a body's hue
             self.vertex_colors = _vec_field(self.palette[m.surface_body_np]) if m.num_surface else None
             self.particle_colors = _vec_field(self.palette[sim.particle_bodies()])
         # Under each body a soft shadow on the floor (shadow.py); none without walls (no floor drawn).
