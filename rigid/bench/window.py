@@ -35,7 +35,6 @@ def main() -> int:
     p.add_argument("--out", default=str(ROOT / "report" / "bench_window.json"))
     args = p.parse_args()
     import numpy as np
-    import taichi as ti
 
     from rigid.config import SimConfig, load_scene
     from rigid.engine.simulator import Simulator

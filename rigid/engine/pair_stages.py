@@ -53,6 +53,18 @@ def _pair_with(model: ti.template(), state: ti.template(), p, r_a, x_a, v_a, w_a
 
 
 @ti.func
+def _visit(model: ti.template(), state: ti.template(), p, r_a, x_a, v_a, w_a, k, kd, mu, j, waker,
+           wake: ti.template()):
+    """One candidate j of pair_forces (from the list or the grid walk): its pair force, and with
+    ``wake``, a moving body (``waker``) marks the sleeping body of j it touches as woken."""
+    f, c, e = _pair_with(model, state, p, r_a, x_a, v_a, w_a, k, kd, mu, j)
+    if ti.static(wake):
+        if waker and e > 0 and sleep.asleep(state, model.particle_body[j]):
+            sleep.mark_woken(state, model.particle_body[j])
+    return f, c, e
+
+
+@ti.func
 def pair_forces(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(), i,
                 wake: ti.template()):
     """Σ over slot i's neighbours (other bodies' particles, neighbours.py) of (force, couple about
@@ -72,11 +84,8 @@ def pair_forces(model: ti.template(), state: ti.template(), world: ti.template()
         waker = sleep.moving(state, world, scratch, a)
     if n <= stride:
         for t in range(n):
-            j = scratch.nbr_list[i * stride + t]
-            fp, cp, ep = _pair_with(model, state, p, r_a, x_a, v_a, w_a, k, kd, mu, j)
-            if ti.static(wake):
-                if waker and ep > 0 and sleep.asleep(state, model.particle_body[j]):
-                    sleep.mark_woken(state, model.particle_body[j])
+            fp, cp, ep = _visit(model, state, p, r_a, x_a, v_a, w_a, k, kd, mu, scratch.nbr_list[i * stride + t],
+                                waker, wake)
             f += fp
             couple += cp
             energy += ep
@@ -88,11 +97,8 @@ def pair_forces(model: ti.template(), state: ti.template(), world: ti.template()
                     lo, hi = grid.row_range(scratch, g[0], g[1] + dy, g[2] + dz, part)
                     for slot in range(lo, hi):
                         if scratch.sorted_body[slot] != a:
-                            j = scratch.sorted_particle[slot]
-                            fp, cp, ep = _pair_with(model, state, p, r_a, x_a, v_a, w_a, k, kd, mu, j)
-                            if ti.static(wake):
-                                if waker and ep > 0 and sleep.asleep(state, model.particle_body[j]):
-                                    sleep.mark_woken(state, model.particle_body[j])
+                            fp, cp, ep = _visit(model, state, p, r_a, x_a, v_a, w_a, k, kd, mu,
+                                                scratch.sorted_particle[slot], waker, wake)
                             f += fp
                             couple += cp
                             energy += ep
