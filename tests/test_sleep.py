@@ -59,6 +59,23 @@ def test_the_window_draws_sleepers_greyer_and_the_toggle_restores_their_colours(
     np.testing.assert_allclose(renderer.vertex_colors.to_numpy(), palette, atol=1e-6)
 
 
+def test_a_grab_wakes_the_held_body_only(settled):
+    sim = settled
+    assert sim.asleep().all()
+    held = 0
+    particle = int(np.flatnonzero(sim.particle_bodies() == held)[0])
+    sim.grab(particle, sim.particle_positions()[particle])  # held where it is: no pull
+    assert not sim.asleep()[held] and sim.asleep()[held + 1:].all()
+    sim.step_frame()  # the spring's upload is not a parameter change: the others sleep on
+    assert sim.asleep()[held + 1:].all()
+    sim.release()
+    for _ in range(120):  # at rest, it falls asleep again (0.5 s), as the next tests expect
+        sim.step_frame()
+        if sim.asleep().all():
+            break
+    assert sim.asleep().all()
+
+
 def test_a_kick_wakes_the_body_and_a_moving_body_wakes_the_sleepers_it_touches(settled):
     sim = settled
     assert sim.asleep().all()

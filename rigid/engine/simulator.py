@@ -217,8 +217,8 @@ class Simulator:
     def wake(self, bodies=None):
         """Wake bodies (all by default; an index or a list of indices) that sleep (sleep.py): a
         grab or any outside push should call this for the body it moves."""
-        self._params_version = self.params.version
-        if bodies is None:
+        if bodies is None:  # every body: a parameter change since the last run is then taken care of
+            self._params_version = self.params.version
             self.state.sleep.fill(0)
             return
         sleep = self.state.sleep.to_numpy()
@@ -248,14 +248,14 @@ class Simulator:
         k, c = default_spring(float(self.model.body_mass_np[body]))
         k, c = k if stiffness is None else float(stiffness), c if damping is None else float(damping)
         self.params.grab_values = holding(int(self.model.slot_of[particle]), target, k, c)
-        self.params.upload()
+        self.params.upload(wakes=False)
         self.grabbed = int(particle)
         self.wake(body)  # a held body must move (sleep.py)
 
     def release(self):
         """Let go of the grabbed particle (nothing if none is held)."""
         self.params.grab_values = released()
-        self.params.upload()
+        self.params.upload(wakes=False)
         self.grabbed = None
 
     # -- reading ----------------------------------------------------------------------------

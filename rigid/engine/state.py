@@ -109,7 +109,9 @@ class Params:
         box = np.array([[0, 1, 0, f], [1, 0, 0, -w], [-1, 0, 0, -w], [0, 0, 1, -w], [0, 0, -1, -w]], np.float64)
         return np.concatenate([box, extra])
 
-    def upload(self) -> None:
+    def upload(self, wakes: bool = True) -> None:
+        """Copy the values to the device; ``wakes``: a change every body must feel (the Simulator
+        wakes them all), not the mouse's spring, which wakes only the body it holds."""
         host = host_float()
         planes = self.plane_list()
         values = np.zeros(NUM_VALUES)
@@ -120,7 +122,8 @@ class Params:
         values[GRAB_FIRST:GRAB_FIRST + GRAB_VALUES] = self.grab_values
         values[SLEEP_SPEED] = self.sleep_speed if self.sleep else 0.0
         values[SLEEP_STEPS] = max(1, round(self.sleep_time / self.dt))
-        self.version = getattr(self, "version", 0) + 1  # the Simulator wakes every body on a change
+        if wakes or not hasattr(self, "version"):
+            self.version = getattr(self, "version", 0) + 1  # the Simulator wakes every body on a change
         material = np.zeros((MAX_PLANES, 4))
         if len(planes):
             rows = [self.box_material] * (5 if self.walls else 0) + list(self.extra_materials)
