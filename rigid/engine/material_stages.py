@@ -17,7 +17,7 @@ import taichi as ti
 
 from . import grid, neighbours
 from .contact import pair_force_damped, plane_force_sticking
-from .materials import normal_damping, pair_mu, pair_restitution, sticking_damping
+from .materials import normal_damping, pair_mu, pair_restitution, plane_damping, sticking_damping
 from .matvec import matvec
 from .stages import gravity, num_planes, planes_in_reach
 from .state import DAMPING, DT, FRICTION, MATERIAL_TABLE, MATERIALS, MAX_PLANES, STIFFNESS
@@ -71,8 +71,8 @@ def _material_pair(model: ti.template(), state: ti.template(), world: ti.templat
     if d.dot(d) < reach * reach:
         m_eff = _pair_mass(model, a, b) / _pair_count(model, state, scratch, a, b)
         ma, mb = model.body_material[a], model.body_material[b]
-        c = normal_damping(pair_restitution(ma[1], mb[1]), k, m_eff, dt, world.values, MATERIALS + MATERIAL_TABLE,
-                           world.values[DAMPING])
+        c = normal_damping(pair_restitution(ma[1], mb[1]), k, m_eff, dt, 0.0, 1.0, world.values,
+                           MATERIALS + MATERIAL_TABLE, world.values[DAMPING])
         mu = pair_mu(ma[0], mb[0], world.values[FRICTION])
         f, couple, _e = pair_force_damped(p, q, r_a, r_b, x_a, v_a, w_a, state.x[b], state.v[b], state.omega[b],
                                           k, c, sticking_damping(k, m_eff, dt), mu)
@@ -159,13 +159,17 @@ def block_forces(u: ti.template(), model: ti.template(), state: ti.template(), w
             for j in range(num_planes(world)):
                 slot = i * MAX_PLANES + j
                 if near & (1 << j):
-                    c = normal_damping(pair_restitution(mat[1], world.values[MATERIALS + 4 * j + 1]), stiffness, m_eff, dt,
-                                       world.values, MATERIALS + MATERIAL_TABLE, c_world)
+                    plane = world.planes[j]
+                    normal = ti.Vector([plane[0], plane[1], plane[2]])
+                    slip = state.plane_slip[slot]
+                    c, memory = plane_damping(pair_restitution(mat[1], world.values[MATERIALS + 4 * j + 1]), stiffness,
+                                              m_eff, dt, -g.dot(normal), normal.dot(slip), normal.dot(pv),
+                                              plane[3] + radius - normal.dot(p), world.values,
+                                              MATERIALS + MATERIAL_TABLE, c_world)
                     mu = pair_mu(mat[0], world.values[MATERIALS + 4 * j], mu_world)
-                    fc, slip, touching = plane_force_sticking(p, pv, radius, world.planes[j], stiffness, c, ct, mu,
-                                                              state.plane_slip[slot], step)
+                    fc, slip, touching = plane_force_sticking(p, pv, radius, plane, stiffness, c, ct, mu, slip, step)
                     f += fc
-                    state.plane_slip[slot] = slip
+                    state.plane_slip[slot] = slip + (memory * touching) * normal  # zero once clear
                     plane_contacts += touching
                 else:
                     state.plane_slip[slot] = ti.Vector.zero(float, 3)

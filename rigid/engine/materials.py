@@ -10,7 +10,7 @@ into c per contact, from the damped oscillator of that contact:
    still a little inside and still moving out: e is higher (0.45 instead of 0.37 at ζ = 0.3,
    0.135 instead of 0 at ζ = 1) and e < 0.135 needs ζ > 1. ``clamped_restitution`` is that
    oscillator's e(ζ) in closed form (the separation time solves a linear equation in
-   tan or exp), ``damping_ratio`` inverts it by bisection on the host.
+   tan or exp), ``damping_ratio`` inverts it by bisection on the host (damping_table.py).
 2. m_eff, the mass the contact moves. A body of mass M resting on n of its particles is n
    springs k and n dampers c in parallel on M, i.e. one spring n k and damper n c, whose
    ratio is n c / (2 √(n k M)) = c / (2 √(k M / n)): each contact must use m_eff = M / n.
@@ -25,12 +25,26 @@ into c per contact, from the damped oscillator of that contact:
    Why counted and not fixed: a sphere lands on one vertex, a volume sphere on a flat layer
    of 4 to 12 particles, a box on a face of many; a fixed m_eff = M would over-damp the
    layer by √n (e 0.5 asked, 0.2 got for n = 9).
-3. c = 2 ζ' √(k m_eff), where ζ' corrects for the scheme's own damping per step of
-   h = ω Δt (ω = √(k / m_eff)): explicit Euler (the slides) grows an oscillator by
-   1 + h² a step (at e = 1 it needs c ≈ k Δt to keep its energy), symplectic Euler damps a
-   little, and both end a contact on a step. ζ'(e, h) is tabulated per scheme by running
-   the scheme's own clamped oscillator on the host (``damping_table``, in WorldArgs.values from state.MATERIALS),
-   read in the kernel by linear interpolation; RK4 takes ζ' = ζ.
+3. c = 2 ζ' √(k m_eff), ζ' from the table ζ'(e, h, β) (damping_table.py, in WorldArgs.values
+   from state.MATERIALS + MATERIAL_TABLE; read by trilinear interpolation, linear in √β):
+   - h = ω Δt, ω = √(k / m_eff): explicit Euler (the slides) grows an oscillator by 1 + h² a
+     step (at e = 1 it needs c ≈ k Δt to keep its energy), symplectic Euler damps a little, and
+     both end a contact on a step; RK4 takes the continuous ζ.
+   - β = γ / e, γ = g_n / (ω v0): the load. Gravity keeps pressing a body on a floor during
+     the contact, so with ζ(e) alone a dropped ball leaves slower than e v0 (rise / drop 0.0076
+     instead of 0.01 at e = 0.1, γ = 0.01). g_n is gravity's part into the plane (−g·n; a
+     ceiling's is taken as 0: a ball thrown up at it leaves a little faster than e v0), v0 the
+     approach speed at the contact's first touch, which each (particle, plane) contact keeps
+     in the normal part of its sticking spring (``impact_memory``): +v0 going in, −v0 going
+     out, and once it goes back in without having left it rests and is damped without load.
+     β beyond BETA_MAX (1: a bounce rising less than half the static sag g / ω²) is damped
+     without load too, so resting contacts (v0 → 0) are damped exactly as before.
+   - On a plane contact's first evaluation the damper acts for the part of the step since
+     the touch only (``plane_damping``), as the table's oscillator touches a step before.
+   Between two free bodies uniform gravity does not change their relative motion: pairs use
+   β = 0. A static mesh (a body of infinite mass) is met through the pair contacts, which keep
+   no memory: its contacts use β = 0 too, so a ball dropped into a bowl rises a little less
+   than e² of its drop (as planes did before).
 4. The step's limit: explicit Euler's damper is stable for Δt < 2 m_eff / c. c is clamped
    to m_eff / Δt (half that, where one step removes the approach speed): an e the step
    cannot take (e = 0 asks for ζ = ∞; e < 0.1 with a large k m_eff) gets the deadest
@@ -53,53 +67,13 @@ restitution is ``velocity_damping_stiffness`` as c, the friction ``friction_stif
 at run time as before.
 """
 
-import functools
-import math
-
-import numpy as np
 import taichi as ti
 
+from .damping_table import BETA_MAX, NUM_B, NUM_E, NUM_H, H_GRID, ROOT_BETA, clamped_restitution, damping_ratio  # noqa: F401
+from .damping_table import damping_table  # noqa: F401  (state.py's import)
+
 UNSET = -1.0  # ζ or μ of a body or plane whose key is not set: the world's value at run time
-ZETA_DEAD = 1e6  # e = 0: more damping than any step takes, i.e. the step's limit
-
-
-def clamped_restitution(zeta: float) -> float:
-    """e of a contact x'' = −ω² x − 2ζω x' whose force may not pull (ω = 1, entering at speed 1):
-    the speed when ω² x + 2 ζ ω x' first reaches 0."""
-    if zeta <= 0.0:
-        return 1.0
-    if zeta < 1.0:
-        wd = math.sqrt(1.0 - zeta * zeta)
-        # force ∝ e^{−ζt} [(1 − 2ζ²)/ωd sin φ + 2ζ cos φ], φ = ωd t: first zero in (0, π]
-        phi = math.pi - math.atan2(2.0 * zeta * wd, 1.0 - 2.0 * zeta * zeta)
-        t = phi / wd
-        return -math.exp(-zeta * t) * (math.cos(phi) - zeta * math.sin(phi) / wd)
-    zeta = max(zeta, 1.0 + 1e-9)
-    s = math.sqrt(zeta * zeta - 1.0)
-    r1, r2 = -zeta + s, -zeta - s  # x = (e^{r1 t} − e^{r2 t}) / 2s
-    a, b = 1.0 + 2.0 * zeta * r1, 1.0 + 2.0 * zeta * r2  # force ∝ a e^{r1 t} − b e^{r2 t}
-    t = math.log(b / a) / (r1 - r2)
-    return -(r1 * math.exp(r1 * t) - r2 * math.exp(r2 * t)) / (2.0 * s)
-
-
-def damping_ratio(e: float | None) -> float:
-    """ζ whose clamped contact gives restitution e (UNSET for None, ZETA_DEAD for e = 0)."""
-    if e is None:
-        return UNSET
-    e = float(e)
-    if e >= 1.0:
-        return 0.0
-    if e <= 0.0:
-        return ZETA_DEAD
-    lo, hi = 0.0, 1.0
-    while clamped_restitution(hi) > e:  # e(ζ) falls monotonically; e(1) = 0.135, e(5) = 0.009
-        hi *= 2.0
-        if hi > ZETA_DEAD:
-            return ZETA_DEAD
-    for _ in range(100):
-        mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if clamped_restitution(mid) > e else (lo, mid)
-    return 0.5 * (lo + hi)
+REST = 1e-30  # m/s: a contact's approach speed once it rests (β beyond BETA_MAX: no load)
 
 
 def friction_value(value: float | None) -> float:
@@ -127,84 +101,79 @@ def pair_mu(mu_a, mu_b, mu_world):
     return ti.sqrt(a * b)
 
 
-# The damping table: ζ' (the damper's ratio to ask of the scheme, within its limit 1 / (2h))
-# for restitution E_GRID[i] at h = ω Δt = H_GRID[j], found by running the scheme's own clamped
-# oscillator (``discrete_restitution``) on the host: explicit and symplectic Euler add or take
-# damping of order h, and the contact ends on a step, so the continuous ζ(e) alone is off by
-# 20 % (e = 0.1, h = 0.05, Euler). h = 0 is the continuous ζ(e); between nodes, linear.
-NUM_E = 41  # e = 0, 0.025, ..., 1
-H_GRID = (0.0, 0.005, 0.01, 0.02, 0.03, 0.05, 0.07, 0.1, 0.15, 0.2, 0.3, 0.5, 0.7, 1.0)
-NUM_H = len(H_GRID)
-
-
-def discrete_restitution(zetas: np.ndarray, h: float, scheme: str) -> np.ndarray:
-    """e of the clamped oscillator (ω = 1) stepped by ``scheme`` with step h, for each ζ'."""
-    x = np.zeros_like(zetas)
-    v = -np.ones_like(zetas)
-    out = np.zeros_like(zetas)
-    live = np.ones(zetas.shape, bool)
-    for n in range(int(40.0 / h) + 2):
-        inside = x < 0
-        f = np.where(inside, np.maximum(-x - 2.0 * zetas * v, 0.0), 0.0)
-        if scheme == "euler":
-            x, v = x + h * v, v + h * f
-        else:
-            v = v + h * f
-            x = x + h * v
-        left = live & (v > 0) & ((x >= 0) | (f == 0))
-        out[left] = v[left]
-        live &= ~left
-        if not live.any():
-            break
-    return out
-
-
-@functools.lru_cache(maxsize=4)
-def damping_table(scheme: str) -> np.ndarray:
-    """(NUM_E, len(H_GRID)) ζ' per (e, h) for ``scheme`` (RK4: the continuous ζ(e) at every h)."""
-    es = np.linspace(0.0, 1.0, NUM_E)
-    continuous = np.array([min(damping_ratio(e), ZETA_DEAD) for e in es])
-    table = np.repeat(continuous[:, None], len(H_GRID), axis=1)
-    if scheme == "rk4":
-        return np.minimum(table, np.array([1e6] + [0.5 / h for h in H_GRID[1:]]))
-    for j, h in enumerate(H_GRID[1:], start=1):
-        limit = 0.5 / h  # c <= m_eff / Δt
-        zetas = np.concatenate([[0.0], np.geomspace(1e-4, limit, 400)])
-        e_of = discrete_restitution(zetas, h, scheme)
-        # e falls with ζ' (np.interp wants rising x): the smallest ζ' giving e, the limit if none does
-        order = np.argsort(-e_of, kind="stable")
-        e_sorted, z_sorted = -e_of[order], zetas[order]
-        table[:, j] = np.where(es <= e_of.min(), limit, np.interp(-es, e_sorted, z_sorted))
-    return table
+@ti.func
+def _interval(grid: ti.template(), x):
+    """(index j of the grid's interval holding x, the fraction of the way along it, in [0, 1])."""
+    j = 0
+    for jj in ti.static(range(1, len(grid) - 1)):
+        if x >= grid[jj]:
+            j = jj
+    lo, hi = 0.0, 1.0
+    for jj in ti.static(range(len(grid) - 1)):
+        if j == jj:
+            lo, hi = grid[jj], grid[jj + 1]
+    return j, ti.min(ti.max((x - lo) / (hi - lo), 0.0), 1.0)
 
 
 @ti.func
-def normal_damping(e, k, m_eff, dt, table: ti.template(), at: ti.template(), c_world):
+def normal_damping(e, k, m_eff, dt, load, v0, table: ti.template(), at: ti.template(), c_world):
     """The damper c of one contact of restitution e (−1: unset, ``c_world`` =
-    velocity_damping_stiffness) moving m_eff: 2 ζ' ω m_eff, ζ' from the table (``table`` from
-    index ``at``; steps 1-4)."""
+    velocity_damping_stiffness) moving m_eff, under a constant ``load`` (acceleration into the
+    contact; 0 between free bodies) having come in at ``v0``: 2 ζ' ω m_eff, ζ' from the table
+    (``table`` from index ``at``) at (e, h = ω Δt, β = load / (ω e v0)); steps 1-4."""
     c = c_world
     if e >= 0 and k > 0:
         w = ti.sqrt(k / m_eff)
-        h = w * dt
-        u = ti.min(e, 1.0) * (NUM_E - 1)
+        root_beta = 0.0  # β beyond BETA_MAX (a resting contact, v0 → 0): damped as without load
+        if load > 0 and load < BETA_MAX * w * e * v0:
+            root_beta = ti.sqrt(load / (w * e * v0))
+        u = ti.min(e, 1.0) * (NUM_E - 1)  # e's nodes are evenly spaced
         i = ti.min(ti.cast(u, ti.i32), NUM_E - 2)
         a = u - i
-        j = 0
-        for jj in ti.static(range(1, NUM_H - 1)):
-            if h >= H_GRID[jj]:
-                j = jj
-        h0, h1 = 0.0, 0.0
-        for jj in ti.static(range(NUM_H - 1)):
-            if j == jj:
-                h0, h1 = H_GRID[jj], H_GRID[jj + 1]
-        b = ti.min((h - h0) / (h1 - h0), 1.0)
-        n = NUM_H
-        z0 = (1 - a) * table[at + i * n + j] + a * table[at + (i + 1) * n + j]
-        z1 = (1 - a) * table[at + i * n + j + 1] + a * table[at + (i + 1) * n + j + 1]
-        z = (1 - b) * z0 + b * z1
+        j, b = _interval(H_GRID, w * dt)
+        l, g = _interval(ROOT_BETA, root_beta)
+        zl = ti.Vector([0.0, 0.0])
+        for dl in ti.static(range(2)):  # bilinear in (e, h) on two β layers (β = 0: as before the load, bit for bit)
+            z0 = (1 - a) * table[at + (i * NUM_H + j) * NUM_B + l + dl] + a * table[at + ((i + 1) * NUM_H + j) * NUM_B + l + dl]
+            z1 = (1 - a) * table[at + (i * NUM_H + j + 1) * NUM_B + l + dl] + a * table[at + ((i + 1) * NUM_H + j + 1) * NUM_B + l + dl]
+            zl[dl] = (1 - b) * z0 + b * z1
+        z = zl[0]
+        if g > 0:
+            z = (1 - g) * zl[0] + g * zl[1]
         c = ti.min(2.0 * z * w * m_eff, m_eff / dt)
     return c
+
+
+@ti.func
+def impact_memory(memory, vn):
+    """A plane contact's memory of its impact after this evaluation (kept in the normal part of
+    its sticking spring, which the tangential law never reads): 0 before its first touch, then
+    +v0 (the approach speed then) while it goes in, −v0 once it moves out (vn > 0), and REST once
+    it moves in again before leaving: it did not bounce, it rests, and is damped without load."""
+    new = memory
+    if memory == 0:
+        new = ti.max(-vn, REST)
+    elif memory > 0 and vn > 0:
+        new = -memory
+    elif memory < 0 and vn < 0:
+        new = REST
+    return new
+
+
+@ti.func
+def plane_damping(e, k, m_eff, dt, load, memory, vn, depth, table: ti.template(), at: ti.template(), c_world):
+    """A plane contact's damper (``normal_damping`` with the load and its remembered v0) and its
+    memory after this evaluation (``impact_memory``; ``memory`` the one before, ``vn`` the normal
+    speed, ``depth`` the overlap). On the contact's first evaluation the damper acts only for the
+    part of the last step since the touch (depth / (v0 Δt) of it): a full step's damping impulse
+    there would make e depend on where in a step the ball touched (±6 % of e at e = 0.1, γ = 0.05,
+    ω Δt = 0.03), as the table's oscillator touches exactly a step before."""
+    new = impact_memory(memory, vn)
+    v0 = ti.abs(new)
+    c = normal_damping(e, k, m_eff, dt, load, v0, table, at, c_world)
+    if memory == 0 and e >= 0:
+        c *= ti.min(ti.max(depth / (v0 * dt), 0.0), 1.0)
+    return c, new
 
 
 @ti.func
