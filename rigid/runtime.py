@@ -15,10 +15,16 @@ import taichi as ti  # rigid/__init__.py has set Taichi's environment before thi
 _initialised: dict | None = None
 
 
-def init_taichi(arch: str = "cpu", fp64: bool = False, debug: bool = False) -> str:
-    """Initialise Taichi once; return the backend actually used ("cpu", "cuda", "vulkan")."""
+def init_taichi(arch: str = "cpu", fp64: bool = False, debug: bool = False, quick_compile: bool = False) -> str:
+    """Initialise Taichi once; return the backend actually used ("cpu", "cuda", "vulkan").
+
+    ``quick_compile``: skip Taichi's advanced IR optimisations (``advanced_optimization=False``;
+    LLVM still optimises the machine code). Kernels compile 2-3x faster (a lone body cold:
+    5.5 s against 9.6; a pile's pair stages: 13 s against 45) and run 10-20 % slower, so it
+    suits processes that compile much and simulate little: the grader's children, whose runs
+    are a few hundred substeps of ten particles. Simulations for users keep the default."""
     global _initialised
-    wanted = dict(arch=arch, fp64=fp64)
+    wanted = dict(arch=arch, fp64=fp64, quick_compile=quick_compile)
     if _initialised is not None:
         if _initialised["wanted"] != wanted:
             raise RuntimeError(f"Taichi already initialised with {_initialised['wanted']}; "
@@ -26,7 +32,7 @@ def init_taichi(arch: str = "cpu", fp64: bool = False, debug: bool = False) -> s
         return _initialised["backend"]
     fp = ti.f64 if fp64 else ti.f32
     common = dict(default_fp=fp, log_level=ti.WARN, offline_cache=True, debug=debug,
-                  random_seed=0)
+                  random_seed=0, advanced_optimization=not quick_compile)
     backend = "cpu"
     if arch == "gpu":
         for candidate, name in ((ti.cuda, "cuda"), (ti.vulkan, "vulkan")):

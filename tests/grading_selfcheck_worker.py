@@ -15,13 +15,13 @@ sys.path.insert(0, str(ROOT))
 
 from rigid.engine.units import load_units  # noqa: E402
 from rigid.grading import answers  # noqa: E402
+from rigid.grading.checks import init_grading_taichi  # noqa: E402
 from rigid.grading.selfcheck import check_units  # noqa: E402
-from rigid.runtime import init_taichi  # noqa: E402
 
 
 def main(out, *files):
     expected = answers.load(ROOT / answers.FILE_NAME)
-    init_taichi("cpu", fp64=True)
+    init_grading_taichi()  # as --check does (selfcheck.main)
     verdicts = {}
     for path in files:
         results, joint = check_units(load_units(path), expected)

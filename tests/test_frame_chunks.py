@@ -209,3 +209,21 @@ def test_reconfigure_moves_and_launches_many_bodies(units):
     snap = sim.snapshot()
     assert np.allclose(snap["x"] - x0, [0.1, 0.0, -0.05], atol=1e-6)
     assert np.allclose(snap["v"], [0.5, 1.0, -0.25], atol=1e-6)
+
+
+def test_byte_copies_to_and_from_the_arrays_are_taichis_own(ti_cpu):
+    """rigid.engine.arrays copies bytes on the CPU instead of Taichi's per-array kernels: the same
+    values as Taichi's from_numpy / to_numpy / fill, for every element kind the engine uses."""
+    from rigid.engine.arrays import clear, download, upload, zeros
+
+    rng = np.random.default_rng(3)
+    for kind, shape in (("f", (7,)), ("i", (7,)), ("v3", (7, 3)), ("v4", (7, 4)), ("v13", (7, 13)),
+                        ("m3", (7, 3, 3)), ("v3i", (7, 3))):
+        values = rng.normal(size=shape) * 100
+        ours, theirs = zeros(7, kind), zeros(7, kind)
+        upload(ours, values)
+        theirs.from_numpy(values.astype(theirs.to_numpy().dtype))
+        assert np.array_equal(ours.to_numpy(), theirs.to_numpy()), kind
+        assert np.array_equal(download(theirs), theirs.to_numpy()), kind
+        clear(ours)
+        assert not np.any(ours.to_numpy()), kind

@@ -25,6 +25,7 @@ array, as the x64 backend takes at most 64 argument elements). RowArgs: rows.py.
 """
 from __future__ import annotations
 
+import ctypes
 import functools
 
 import numpy as np
@@ -88,6 +89,66 @@ RowArgs = _pack_type(dict(body=("f", 3), contact_energy=("f", 1)))
 SurfaceArgs = _pack_type(dict(surface_r0=("v3", 1), surface_body=("i", 1)))
 
 
+_HOST = {"f32": np.float32, "f64": np.float64, "i32": np.int32}
+
+
+def _cpu_pointer(array):
+    """The address of ``array``'s elements in this process's memory, or None (not the CPU
+    backend, or a Taichi whose internals differ from 1.7's)."""
+    if ti.lang.impl.current_cfg().arch != ti.x64:
+        return None
+    try:
+        return int(ti.lang.impl.get_runtime().prog.get_ndarray_data_ptr_as_int(array.arr))
+    except Exception:
+        return None
+
+
+def _layout(array):
+    """(numpy dtype, shape) of ``array`` as to_numpy gives it: (n,) + the element's shape."""
+    return _HOST[str(array.dtype)], tuple(array.shape) + tuple(array.arr.element_shape())
+
+
+# Taichi's ndarray.from_numpy / to_numpy / fill (of vectors) launch a kernel that takes the
+# ndarray as a template argument, so every array compiles (or loads and links) a kernel of its
+# own: ~50 for a Simulator, about a second of every process's start-up. On the CPU the arrays
+# live in this process's memory, so these copy bytes instead (AOS layout, as to_numpy reads it:
+# tests/test_frame_chunks.py checks); other backends keep Taichi's kernels.
+
+def upload(array, values) -> None:
+    """array ← values (any shape with the array's number of elements; cast to its dtype)."""
+    dtype, shape = _layout(array)
+    values = np.ascontiguousarray(np.asarray(values).reshape(shape), dtype=dtype)
+    pointer = _cpu_pointer(array)
+    if pointer is None:
+        array.from_numpy(values)
+        return
+    ti.sync()
+    ctypes.memmove(pointer, values.ctypes.data, values.nbytes)
+
+
+def download(array) -> np.ndarray:
+    """A numpy copy of ``array``, shaped (n,) + the element's shape."""
+    dtype, shape = _layout(array)
+    pointer = _cpu_pointer(array)
+    if pointer is None:
+        return array.to_numpy()
+    ti.sync()
+    out = np.empty(shape, dtype)
+    ctypes.memmove(out.ctypes.data, pointer, out.nbytes)
+    return out
+
+
+def clear(array) -> None:
+    """array ← 0."""
+    pointer = _cpu_pointer(array)
+    if pointer is None:
+        array.fill(0)
+        return
+    dtype, shape = _layout(array)
+    ti.sync()
+    ctypes.memset(pointer, 0, int(np.prod(shape)) * np.dtype(dtype).itemsize)
+
+
 def device_array(values: np.ndarray, width: int = 0, dtype=None):
     """An ndarray holding ``values``: float (the run's precision) by default, vectors of
     ``width`` if width > 0, else scalars; at least one element (Taichi has no empty arrays)."""
@@ -104,12 +165,11 @@ def device_array(values: np.ndarray, width: int = 0, dtype=None):
         if len(values) == 0:
             values = np.zeros(1)
         array = ti.ndarray(dtype, len(values))
-    array.from_numpy(np.ascontiguousarray(values, dtype=host))
+    upload(array, np.ascontiguousarray(values, dtype=host))
     return array
 
 
 def zeros(count: int, kind: str = "f"):
-    """A zero ndarray of ``count`` (at least 1) elements of kind "f", "i", "v3", "v4", "v13", "m3"."""
-    array = ti.ndarray(_element(kind), max(int(count), 1))
-    array.fill(0)
-    return array
+    """A zero ndarray of ``count`` (at least 1) elements of kind "f", "i", "v3", "v4", "v13", "m3"
+    (Taichi fills a new ndarray with zeros)."""
+    return ti.ndarray(_element(kind), max(int(count), 1))

@@ -39,7 +39,7 @@ from dataclasses import dataclass
 import numpy as np
 import taichi as ti
 
-from .arrays import ModelArgs, SurfaceArgs, device_array, float_dtype, host_float
+from .arrays import ModelArgs, SurfaceArgs, device_array, download, float_dtype, host_float, upload
 from .blocks import block_layout, block_size_for
 from .materials import friction_value
 
@@ -140,7 +140,7 @@ class Model:
 
     def _invert_inertia(self):
         """I0⁻¹ on the host in float64 (a singular I0, e.g. TODO 1 unsolved, gets zero)."""
-        self.inertia_body_np = inertia = self.inertia_body.to_numpy().astype(np.float64).reshape(-1, 3, 3)
+        self.inertia_body_np = inertia = download(self.inertia_body).astype(np.float64).reshape(-1, 3, 3)
         inverse = np.zeros_like(inertia)
         singular = False
         for b, tensor in enumerate(inertia):
@@ -152,4 +152,4 @@ class Model:
             print("warning: TODO 1 gives a singular inertia tensor; the body will not rotate "
                   "until TODO 1 is solved", file=sys.stderr)
         self.inertia_body_inv_np = inverse
-        self.inertia_body_inv.from_numpy(inverse.astype(host_float()))
+        upload(self.inertia_body_inv, inverse)

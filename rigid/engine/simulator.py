@@ -19,7 +19,7 @@ from ..bodies.colliders import check_colliders, uses_materials
 from ..bodies.overlap import check_start
 from ..bodies.placement import BodySpec, check_inside_box, scene_bodies
 from ..bodies.statics import static_bodies
-from .arrays import host_float
+from .arrays import clear, download, host_float, upload
 from .grab import default_spring, holding, released
 from .kernels import engine_kernels
 from .scratch import make_scratch
@@ -93,11 +93,11 @@ class Simulator:
     @property
     def neighbour_builds(self) -> int:
         """How many times the neighbour lists were built (benchmarks: rebuilds per substep)."""
-        return int(self._scratch_arrays["nbr_flags"].to_numpy()[1])
+        return int(download(self._scratch_arrays["nbr_flags"])[1])
 
     def neighbour_counts(self) -> np.ndarray:
         """(N,) candidates in each particle's list at its last build (slot order; benchmarks)."""
-        return self._scratch_arrays["nbr_count"].to_numpy()
+        return download(self._scratch_arrays["nbr_count"])
 
     # -- state ------------------------------------------------------------------------------
     def reset(self):
@@ -106,10 +106,10 @@ class Simulator:
         self.frame = 0
         self.release()
         self._scratch_arrays["nbr_flags"][0] = 1  # the next placement builds the neighbour lists
-        self.state.sleep.fill(0)  # every body awake
+        clear(self.state.sleep)  # every body awake
         self._params_version = self.params.version
         self.state.clear_contacts()
-        self._scratch_arrays["contacts"].fill(0)
+        clear(self._scratch_arrays["contacts"])
         b = self.bodies
         self.kernels.init_bodies(self.model.args, self.state.args,
                                  *(np.array([getattr(body, key) for body in b], np.float64)
@@ -219,15 +219,15 @@ class Simulator:
         grab or any outside push should call this for the body it moves."""
         if bodies is None:  # every body: a parameter change since the last run is then taken care of
             self._params_version = self.params.version
-            self.state.sleep.fill(0)
+            clear(self.state.sleep)
             return
-        sleep = self.state.sleep.to_numpy()
+        sleep = download(self.state.sleep)
         sleep[np.atleast_1d(np.asarray(bodies, int))] = 0
-        self.state.sleep.from_numpy(sleep)
+        upload(self.state.sleep, sleep)
 
     def asleep(self) -> np.ndarray:
         """(B,) bool: which bodies sleep now (at rest, not integrated; the window greys them)."""
-        return self.state.sleep.to_numpy()[:, 0] != 0
+        return download(self.state.sleep)[:, 0] != 0
 
     def apply_impulse(self, particle: int, impulse):
         """Hit particle ``particle`` (its index in the mesh files' order, body after body) with
@@ -277,11 +277,11 @@ class Simulator:
 
     def particle_positions(self) -> np.ndarray:
         """(N, 3) float64 world positions of the particles, in the mesh files' order."""
-        return self.state.particle_x.to_numpy().astype(np.float64)[self.model.slot_of]
+        return download(self.state.particle_x).astype(np.float64)[self.model.slot_of]
 
     def particle_velocities(self) -> np.ndarray:
         """(N, 3) float64 world velocities of the particles, in the mesh files' order."""
-        return self.state.particle_v.to_numpy().astype(np.float64)[self.model.slot_of]
+        return download(self.state.particle_v).astype(np.float64)[self.model.slot_of]
 
     def particle_bodies(self) -> np.ndarray:
         """(N,) the body of each particle, in the mesh files' order."""

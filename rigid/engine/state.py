@@ -21,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..bodies import colliders
-from .arrays import StateArgs, WorldArgs, host_float, zeros
+from .arrays import StateArgs, WorldArgs, clear, upload, zeros
 from .grab import GRAB_FIRST, GRAB_VALUES, released
 from .materials import damping_table, friction_value
 
@@ -55,7 +55,7 @@ class State:
 
     def clear_contacts(self) -> None:
         """Forget the contacts' memory (a reset): no spring stretched."""
-        self.plane_slip.fill(0)
+        clear(self.plane_slip)
 
 
 class Params:
@@ -112,7 +112,6 @@ class Params:
     def upload(self, wakes: bool = True) -> None:
         """Copy the values to the device; ``wakes``: a change every body must feel (the Simulator
         wakes them all), not the mouse's spring, which wakes only the body it holds."""
-        host = host_float()
         planes = self.plane_list()
         values = np.zeros(NUM_VALUES)
         values[[DT, STIFFNESS, DAMPING, FRICTION]] = (self.dt, self.collision_stiffness,
@@ -128,7 +127,7 @@ class Params:
         if len(planes):
             rows = [self.box_material] * (5 if self.walls else 0) + list(self.extra_materials)
             material[:len(planes)] = np.array(rows)
-        self.values.from_numpy(np.concatenate([values, material.reshape(-1), self.table]).astype(host))
+        upload(self.values, np.concatenate([values, material.reshape(-1), self.table]))
         padded = np.zeros((MAX_PLANES, 4))
         padded[:len(planes)] = planes
-        self.planes.from_numpy(padded.astype(host))
+        upload(self.planes, padded)

@@ -24,6 +24,17 @@ from .specs import TODOS, pack, sample_inputs, unpack
 from . import trajectory
 
 
+def init_grading_taichi() -> None:
+    """The one Taichi set-up of every check, in the grader's children, when it prepares the
+    reference's answers and in ``--check``: float64, and quick compiling (Taichi's advanced IR
+    optimisations off: each file compiles its units into the engine and runs 480 substeps of
+    ten particles, so compiling is nearly all the time). The same set-up everywhere, so the
+    answers and a student's values agree to the last bit where the code is the same."""
+    from ..runtime import init_taichi
+
+    init_taichi("cpu", fp64=True, quick_compile=True)
+
+
 def evaluate(spec, unit, inputs: dict) -> dict:
     """name -> (K, *shape) outputs of ``unit`` on ``inputs``."""
     a = pack(spec, inputs)

@@ -59,7 +59,7 @@ def marks() -> tuple:
 
 def main(module, argv=None) -> int:
     from . import answers
-    from ..runtime import init_taichi
+    from .checks import init_grading_taichi
 
     args = [a for a in (sys.argv[1:] if argv is None else list(argv)) if a != "--check"]
     if args:
@@ -73,7 +73,7 @@ def main(module, argv=None) -> int:
         return 2
     print(f"Checking the 7 TODOs of {path.name} against the reference answers in {answers.FILE_NAME} "
           f"(the grader's checks):", flush=True)
-    init_taichi("cpu", fp64=True)
+    init_grading_taichi()
     results, joint = check_units(module, expected)
     ok, bad = marks()
     for k, r in results.items():

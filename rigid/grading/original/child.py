@@ -29,7 +29,9 @@ def init_taichi():
     """One runtime for every version of the file: the file's own ti.init calls are ignored (headless.py).
 
     Float32 by default and no debug checks, as the file would run; one CPU thread, so sums of
-    float atomics come out the same in every run.
+    float atomics come out the same in every run; Taichi's advanced IR optimisations off: every
+    version of the file compiles its own kernels and runs them for 30 frames only, so compiling
+    is nearly all the time (rigid.runtime.init_taichi's quick_compile).
     """
     import contextlib
     import sys
@@ -40,7 +42,7 @@ def init_taichi():
 
     with contextlib.redirect_stdout(sys.stderr):
         ti.init(arch=ti.cpu, default_fp=ti.f32, debug=False, log_level=ti.ERROR, offline_cache=True,
-                random_seed=0, cpu_max_num_threads=1)
+                random_seed=0, cpu_max_num_threads=1, advanced_optimization=False)
     headless.install(ti)
     from ...engine import frontend
 
