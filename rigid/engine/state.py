@@ -63,7 +63,7 @@ class Params:
              "floor", "wall")
 
     def __init__(self, config):
-        # The damping table only with materials (0.6 s to make).
+        # The damping table only with materials (about 1 s to make: damping_table.py).
         self.table = damping_table(config.integrator).reshape(-1) if colliders.uses_materials(config) else np.zeros(0)
         self.values = zeros(MATERIALS + MATERIAL_TABLE + len(self.table))
         self.planes = zeros(MAX_PLANES, "v4")
