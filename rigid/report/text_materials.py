@@ -19,14 +19,17 @@ def write(doc, out: Path) -> None:
              "clamped oscillator (`rigid/engine/materials.py`). Five balls of e = 0.1 … 0.9, thrown at "
              "the floor without gravity, leave it at e times their speed, and pairs meeting head-on "
              "separate at e times their approach speed (explicit Euler, Δt = 0.1 ms, k = 1e5, 10 g "
-             "particles); dropped 0.2 m under gravity "
-             "they rise to a little less than e² of the drop: gravity pulls during the contact's few "
-             "milliseconds and takes g t_c out of the rebound e v, most for the smallest e (a stiffer "
-             "contact shortens t_c).")
+             "particles). Dropped 0.2 m under gravity they rise to e² of the drop (the apex above the "
+             "height of first touch): gravity keeps pressing on a contact while it lasts, which takes "
+             "g t_c out of the rebound, so each contact with a static plane remembers its impact speed "
+             "v0 and takes its damping from a table over e, ωΔt and the load β = g_n / (ω e v0) "
+             "(`rigid/engine/damping_table.py`), stepped with the integrator's own clamped oscillator.")
+    rise = {k: m[k]["apex_above_touch_ratio"] for k in ("dropped", "dropped_volume")}
     rows = [[e, m["thrown_vertex_euler"][i], m["thrown_volume_euler"][i], m["head_on_vertex"][i],
-             m["head_on_volume"][i], m["dropped"]["height_ratio"][i], round(e * e, 4)] for i, e in enumerate(m["e"])]
+             m["head_on_volume"][i], rise["dropped"][i], rise["dropped_volume"][i], round(e * e, 4)]
+            for i, e in enumerate(m["e"])]
     doc.table(["e", "thrown at the floor, exit/approach (vertex)", "(volume)", "head-on pairs, separation/"
-               "approach (vertex)", "(volume)", "dropped 0.2 m, rise/drop (vertex)", "e²"], rows)
+               "approach (vertex)", "(volume)", "dropped 0.2 m, rise/drop (vertex)", "(volume)", "e²"], rows)
     r, s = m["ramp"], m["slide"]
     doc.para(f"Friction sticks on the planes (a tangential spring at each contact, slipping at μ f_n). A "
              f"box on a 30° `[[plane]]` with μ = 0.2 slides at {r['acceleration']} m/s², against "
