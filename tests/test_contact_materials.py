@@ -1,7 +1,8 @@
 """Restitution and friction a user sets (rigid.engine.materials), against closed forms.
 
 - five balls of e = 0.1 ... 0.9 side by side, thrown at the floor without gravity: each leaves
-  at e times its approach speed (the definition of e), vertex and volume particles;
+  at e times its approach speed (the definition of e), vertex and volume particles, explicit
+  Euler and RK4 (within 3 %);
 - five balls of e = 0.1 ... 0.9 dropped on the floor under gravity rise to e² of their drop
   (within 3 %), vertex and volume particles: the contact's damping knows the load;
 - e = 1 keeps the ball's energy within 1 %; five pairs of spheres meeting head-on separate at e
@@ -54,7 +55,8 @@ def test_clamped_oscillator_restitution_matches_scipy():
         assert abs(clamped_restitution(z) - e) < 1e-9
 
 
-@pytest.mark.parametrize("particles, integrator, dt", [("vertex", "euler", 1e-4), ("volume", "euler", 1e-4)])
+@pytest.mark.parametrize("particles, integrator, dt", [("vertex", "euler", 1e-4), ("volume", "euler", 1e-4),
+                                                      ("vertex", "rk4", 1e-4), ("volume", "rk4", 1e-4)])
 def test_balls_leave_the_floor_at_e_times_their_speed(particles, integrator, dt):
     bodies = tuple(dict(position=(-0.8 + 0.4 * i, -0.75, 0.0), restitution=e) for i, e in enumerate(ES))
     sim = _sim(particles=particles, grid=8, scale=0.15, bodies=bodies, restitution=0.0, friction=0.0,

@@ -110,7 +110,7 @@ class EngineKernels:
             for k in range(model.block_start.shape[0]):
                 if ti.static(materials):
                     material_stages.block_forces(u, model, state, world, scratch, k, pairs,
-                                                 weight * world.values[DT])
+                                                 weight * world.values[DT], not rk4)
                 elif ti.static(sleeping):
                     if not sleep.resting(state, model.block_body[k]):
                         stages.block_forces(u, model, state, world, scratch, k, pairs)

@@ -129,10 +129,11 @@ def pair_stage(model: ti.template(), state: ti.template(), world: ti.template(),
 
 @ti.func
 def block_forces(u: ti.template(), model: ti.template(), state: ti.template(), world: ti.template(),
-                 scratch: ti.template(), k, pairs: ti.template(), step):
+                 scratch: ti.template(), k, pairs: ti.template(), step, touch_part: ti.template()):
     """Stage 3b with materials for block k: as stages.block_forces, the planes each with its
     material and sticking spring (``step``: the time this evaluation's force acts, Δt, or RK4's
-    weight of it), and the block's plane and pair contacts counted into partial_count."""
+    weight of it; ``touch_part``: materials.plane_damping's first-step rule, the Euler schemes),
+    and the block's plane and pair contacts counted into partial_count."""
     b = model.block_body[k]
     start = model.block_start[k]
     end = start + model.block_count[k]
@@ -165,7 +166,7 @@ def block_forces(u: ti.template(), model: ti.template(), state: ti.template(), w
                     c, memory = plane_damping(pair_restitution(mat[1], world.values[MATERIALS + 4 * j + 1]), stiffness,
                                               m_eff, dt, -g.dot(normal), normal.dot(slip), normal.dot(pv),
                                               plane[3] + radius - normal.dot(p), world.values,
-                                              MATERIALS + MATERIAL_TABLE, c_world)
+                                              MATERIALS + MATERIAL_TABLE, c_world, touch_part)
                     mu = pair_mu(mat[0], world.values[MATERIALS + 4 * j], mu_world)
                     fc, slip, touching = plane_force_sticking(p, pv, radius, plane, stiffness, c, ct, mu, slip, step)
                     f += fc
