@@ -186,17 +186,38 @@ def test_overlapping_bodies_and_bodies_behind_a_plane_are_refused():
 
 
 def test_ball_rolls_down_a_bowl_and_rests_at_its_bottom():
+    """A ball of 42 vertex particles released on a bowl's side rolls down, rocks and settles at the
+    bottom. Where exactly is set by facets, not by the axis: the ball rests on a face of three of
+    its particles (its centre 5 mm lower there than over one particle), so a tip to the next face
+    needs a slope of ~9°, while the bowl's bottom is a cone of 3.75° facets; between bodies friction
+    is viscous, so the ball creeps (1-2 mm/s at 5 s) and tips to a new face now and then (from
+    1 cm off the axis at 4 s to 2.2 cm at 23 s, then still). Rolling itself is undamped (no
+    slip, no rolling resistance): the energy goes in the facets' impacts (e = 0.2). So: over 3-6 s
+    the centre stays within the ball's support triangle's circumradius of the axis (its contact
+    points straddle the bottom; from the model, 3.8 cm), the kinetic energy falls (the last
+    second's peak under a tenth of the first's), and the ball ends nearly still (< 1 cm/s)."""
     a, d = math.radians(40), 0.32  # on the bowl's side, 40° from its bottom
     sim = _sim(scale=0.1, particle_radius=0.02, position=(d * math.sin(a), -d * math.cos(a), 0.0), restitution=0.2,
                friction=0.5, walls=False, statics=(dict(mesh=str(ASSETS / "bowl.obj"), scale=0.5),))
     assert sim.num_bodies == 2 and sim.model.static_np.tolist() == [False, True]
     bowl = sim.snapshot()["x"][1]
-    sim.advance_frames(240)  # 4 s
-    s = sim.snapshot()
+    ball = sim.particle_positions()[sim.particle_bodies() == 0] - sim.snapshot()["x"][0]
+    centre, r = np.linalg.norm(ball, axis=1).mean(), sim.model.radius_np[0]
+    spacing = min(np.linalg.norm(ball[i + 1:] - ball[i], axis=1).min() for i in range(len(ball) - 1))
+    reach = spacing * (centre + r) / centre / math.sqrt(3.0)  # the contact triangle's circumradius
+    sim.advance_frames(180)  # 3 s: down, across, back
+    off, energy = [], []
+    for _ in range(180):  # 3 s more, every frame
+        sim.advance_frames(1)
+        s = sim.snapshot()
+        off.append(np.hypot(s["x"][0][0], s["x"][0][2]))
+        energy.append(np.ravel(s["kinetic_energy"])[0])
     assert np.array_equal(s["x"][1], bowl) and np.all(s["v"][1] == 0), "the bowl never moves"
-    print("bowl: ball at", s["x"][0], "speed", np.linalg.norm(s["v"][0]))
-    assert np.hypot(s["x"][0][0], s["x"][0][2]) < 0.01, "at the bottom: on the bowl's axis"
-    assert np.linalg.norm(s["v"][0]) < 0.01, "at rest"
+    print(f"bowl: off the axis {min(off):.4f}..{max(off):.4f} m (facet bound {reach:.4f}), kinetic energy "
+          f"{max(energy[:60]):.2e} -> {max(energy[-60:]):.2e} J, speed {np.linalg.norm(s['v'][0]):.4f} m/s")
+    assert max(off) < reach, "at the bottom, within a facet of the axis"
+    assert max(energy[-60:]) < 0.1 * max(energy[:60]), "the rocking dies out"
+    assert np.linalg.norm(s["v"][0]) < 0.01, "nearly at rest"
 
 
 def test_bad_material_and_plane_values_are_one_line(tmp_path):
