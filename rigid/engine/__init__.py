@@ -1,6 +1,7 @@
 """The engine: one pipeline for one body or many, its kernels compiled once per process.
 
-  arrays.py     the argument packs the kernels take (Model, State, World, Scratch, Rows)
+  arrays.py     the argument packs the kernels take (Model, State, World, Scratch, Rows), and the
+                copies between numpy and the arrays (bytes on the CPU: no kernel per array)
   model.py      static data (Model); state.py: per-step State and runtime Params (+ the box's planes)
   blocks.py     particles in compact blocks (the unit of work and of summation)
   scratch.py    the arrays a substep rewrites (forces, grid, lists, RK4), sized for a scene
@@ -8,7 +9,8 @@
   contact.py    the one contact law; grid.py, scan.py, neighbours.py: the grid and neighbour lists
   sleep.py      bodies at rest stop being integrated until something touches them
   grab.py       the mouse's spring on one particle (runtime values in WorldArgs.values)
-  materials.py  restitution e -> each contact's damper, the pair rules; material_stages.py: the force
+  materials.py  restitution e -> each contact's damper, the pair rules; damping_table.py: ζ'(e, ωΔt,
+                load) from each scheme's own clamped oscillator; material_stages.py: the force
                 stages when a scene sets materials, planes or static meshes
   schemes.py    the updates from (F, τ): explicit Euler (TODO 5-7), symplectic Euler, RK4
   kernels.py    the kernels, cached per (TODO units, scheme); schedule.py: serial or parallel
