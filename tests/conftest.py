@@ -93,8 +93,10 @@ def pytest_collection_finish(session):
     pyproject.toml pins pytest < 9; this says so loudly should another version break it again."""
     items = session.items
     if getattr(session.config.option, "loadgroup", False) and items and not all("@" in item.nodeid for item in items):
-        raise pytest.UsageError("pytest-xdist's --dist loadgroup does not group tests with this pytest "
-                                f"({pytest.__version__}); install the dev extra's pytest: pip install 'pytest<9'")
+        message = (f"error: pytest-xdist's --dist loadgroup does not group tests with this pytest "
+                   f"({pytest.__version__}); install the dev extra's pytest: pip install 'pytest<9'")
+        print(message, file=sys.stderr)  # a worker's error reaches the terminal as xdist's own traceback
+        raise pytest.UsageError(message)
 
 
 @pytest.fixture(scope="session")
