@@ -154,7 +154,6 @@ def device_array(values: np.ndarray, width: int = 0, dtype=None):
     ``width`` if width > 0, else scalars; at least one element (Taichi has no empty arrays)."""
     values = np.asarray(values)
     dtype = float_dtype() if dtype is None else dtype
-    host = np.float64 if dtype == ti.f64 else np.float32 if dtype == ti.f32 else np.int32
     if width:
         values = values.reshape(-1, width)
         if len(values) == 0:
@@ -165,7 +164,7 @@ def device_array(values: np.ndarray, width: int = 0, dtype=None):
         if len(values) == 0:
             values = np.zeros(1)
         array = ti.ndarray(dtype, len(values))
-    upload(array, np.ascontiguousarray(values, dtype=host))
+    upload(array, values)  # cast to the array's dtype there
     return array
 
 

@@ -160,13 +160,14 @@ def _restitution(zeta, load, h, scheme: str) -> np.ndarray:
     return out
 
 
-def _load_free(scheme: str) -> np.ndarray:
+def _load_free(scheme: str, zeta_free: np.ndarray) -> np.ndarray:
     """The β = 0 layer (NUM_E, NUM_H), as this engine made it before the load: ζ'(e) sampled on
-    400 ζ' per h and interpolated (bit for bit the same damping for pairs and resting contacts)."""
+    400 ζ' per h and interpolated (bit for bit the same damping for pairs and resting contacts);
+    ``zeta_free``: the continuous ζ(e) at the NUM_E values of e."""
     es = np.linspace(0.0, 1.0, NUM_E)
-    table = np.repeat(np.array([min(damping_ratio(e), ZETA_DEAD) for e in es])[:, None], NUM_H, axis=1)
+    table = np.repeat(np.minimum(zeta_free, ZETA_DEAD)[:, None], NUM_H, axis=1)
     if scheme == "rk4":
-        return np.minimum(table, np.array([1e6] + [0.5 / h for h in H_GRID[1:]]))
+        return np.minimum(table, np.array([ZETA_DEAD] + [0.5 / h for h in H_GRID[1:]]))
     for j, h in enumerate(H_GRID[1:], start=1):
         limit = 0.5 / h  # c <= m_eff / Δt
         zetas = np.concatenate([[0.0], np.geomspace(1e-4, limit, 400)])
@@ -221,5 +222,5 @@ def damping_table(scheme: str) -> np.ndarray:
         lo[reachable] = np.where(over, mid[reachable], lo[reachable])
         hi[reachable] = np.where(over, hi[reachable], mid[reachable])
     table[reachable] = np.exp(hi[reachable])
-    table[:, :, 0] = _load_free(scheme)
+    table[:, :, 0] = _load_free(scheme, zeta_free)
     return table
