@@ -74,5 +74,10 @@ def with_energies(rows: dict, contact: np.ndarray, times, gravity, moving_mass) 
     P, v, L, omega, x = rows["P"], rows["v"], rows["L"], rows["omega"], rows["x"]
     k = len(times)
     kinetic = 0.5 * (P * v).reshape(k, -1).sum(axis=1) + 0.5 * (L * omega).reshape(k, -1).sum(axis=1)
-    potential = -((x @ np.asarray(gravity)) @ moving_mass) + contact
+    # Elementwise products and sums along each row's last axis only: a row's sum is then the same
+    # operations in the same order wherever it sits in the block (BLAS's matrix-vector products
+    # treat a block's last rows differently, so a row's last bits depended on its position).
+    g = np.asarray(gravity, np.float64)
+    height = x[..., 0] * g[0] + x[..., 1] * g[1] + x[..., 2] * g[2]  # (k, B): g·x of each body
+    potential = -(height * np.asarray(moving_mass, np.float64)).sum(axis=1) + contact
     return dict(t=np.asarray(times, np.float64), **rows, kinetic_energy=kinetic, potential_energy=potential)

@@ -18,7 +18,7 @@ import types
 
 import numpy as np
 
-from .diagnose import close, diagnose_output, error
+from .diagnose import agreement, close, diagnose_output, error
 from .direct import make_direct_kernel
 from .specs import TODOS, pack, sample_inputs, unpack
 from . import trajectory
@@ -73,7 +73,7 @@ def judge(spec, sub: dict, inputs: dict, expected: dict, not_done: str) -> dict:
             note = f", {form} order" if len(expected) > 1 else ""
             return dict(passed=True, form=form,
                         message=f"TODO {k}: right on {len(sub[spec.outputs[0][0]])} random calls "
-                                f"(to {worst:.0e}{note})")
+                                f"(to {agreement(worst)}{note})")
     if is_placeholder(spec, sub, inputs):
         return dict(passed=False, message=f"TODO {k}: not done — {not_done}")
     ref = min(expected.values(), key=lambda e: sum(error(sub[n], e[n]) for n, *_ in spec.outputs))

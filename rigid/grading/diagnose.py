@@ -35,6 +35,15 @@ def error(out: np.ndarray, ref: np.ndarray) -> float:
     return float(np.max(np.abs(out - ref))) / scale_of(ref)
 
 
+ROUND_OFF = 1e-12  # float64 errors below this are round-off, whose last bits vary between machines
+
+
+def agreement(worst: float) -> str:
+    """How closely outputs agree, for a message: the error, or "round-off (< 1e-12)" below
+    ROUND_OFF (its digits depend on the CPU that made the answers: vector width, FMA)."""
+    return f"{worst:.0e}" if worst >= ROUND_OFF else f"round-off (< {ROUND_OFF:.0e})"
+
+
 def close(out, ref) -> bool:
     return error(out, ref) <= RTOL
 

@@ -14,6 +14,7 @@ import numpy as np
 from ..config import SimConfig
 from ..bodies.mesh import BodyGeometry
 from ..engine.simulator import Simulator
+from .diagnose import agreement
 
 SUBSTEPS_PER_CHECKPOINT = 160
 CHECKPOINTS = 3  # after 160, 320, 480 substeps = 0.6 s: free flight, floor, wall
@@ -56,9 +57,7 @@ def passed(errors: dict) -> bool:
 def summary(errors: dict) -> str:
     """For a run that agrees: one short clause."""
     steps = SUBSTEPS_PER_CHECKPOINT * CHECKPOINTS
-    worst = max(errors.values())  # below 1e-12 it is round-off, whose last bits differ between processes
-    return f"a {steps}-substep simulation agrees with the reference to " + (
-        f"{worst:.0e}" if worst >= 1e-12 else "round-off (< 1e-12)")
+    return f"a {steps}-substep simulation agrees with the reference to {agreement(max(errors.values()))}"
 
 
 def describe(errors: dict) -> str:
