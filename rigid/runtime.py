@@ -8,6 +8,7 @@ from __future__ import annotations
 import contextlib
 import ctypes.util
 import glob
+import os
 import sys
 
 import taichi as ti  # rigid/__init__.py has set Taichi's environment before this import
@@ -15,15 +16,22 @@ import taichi as ti  # rigid/__init__.py has set Taichi's environment before thi
 _initialised: dict | None = None
 
 
-def init_taichi(arch: str = "cpu", fp64: bool = False, debug: bool = False, quick_compile: bool = False) -> str:
+QUICK_COMPILE_ENV = "RIGID_QUICK_COMPILE"  # "1": quick_compile by default (the test suite sets it)
+
+
+def init_taichi(arch: str = "cpu", fp64: bool = False, debug: bool = False, quick_compile: bool | None = None) -> str:
     """Initialise Taichi once; return the backend actually used ("cpu", "cuda", "vulkan").
 
     ``quick_compile``: skip Taichi's advanced IR optimisations (``advanced_optimization=False``;
     LLVM still optimises the machine code). Kernels compile 2-3x faster (a lone body cold:
     5.5 s against 9.6; a pile's pair stages: 13 s against 45) and run 10-20 % slower, so it
     suits processes that compile much and simulate little: the grader's children, whose runs
-    are a few hundred substeps of ten particles. Simulations for users keep the default."""
+    are a few hundred substeps of ten particles, and the test suite (``RIGID_QUICK_COMPILE=1``,
+    which every process it starts inherits). Simulations for users keep the default (None:
+    off unless that variable says 1)."""
     global _initialised
+    if quick_compile is None:
+        quick_compile = os.environ.get(QUICK_COMPILE_ENV) == "1"
     wanted = dict(arch=arch, fp64=fp64, quick_compile=quick_compile)
     if _initialised is not None:
         if _initialised["wanted"] != wanted:

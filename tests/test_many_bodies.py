@@ -4,6 +4,7 @@ Float64 numbers come from tests/many_body_fp64_worker.py, started in the backgro
 module is imported (one ti.init per process; under xdist by the first test that needs it, see
 background.py); the scenes run here in float32.
 """
+import os
 from pathlib import Path
 
 import numpy as np
@@ -151,7 +152,9 @@ def test_single_body_export_unchanged():
     be explained. (That a run repeats bit for bit on one machine: test_export.py.)"""
     out = ROOT / "out" / "pin_assignment.npz"
     out.parent.mkdir(exist_ok=True)
-    proc = run_cli("--scene", "assets/scenes/assignment.toml", "--headless", "--frames", "120", "--export", out)
+    users = {**os.environ, "RIGID_QUICK_COMPILE": "0"}  # compiled as for users (conftest.py)
+    proc = run_cli("--scene", "assets/scenes/assignment.toml", "--headless", "--frames", "120", "--export", out,
+                   env=users)
     assert proc.returncode == 0, proc.stderr
     run, pin = np.load(out), np.load(PIN)
     assert run.files == pin.files == list(PIN_TOLERANCE)
