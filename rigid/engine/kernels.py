@@ -50,10 +50,10 @@ class EngineKernels:
 
         @ti.func
         def place_all(model: ti.template(), state: ti.template(), scratch: ti.template(), parallel: ti.template(),
-                      everything: ti.template()):
+                      everything):
             """Stages 1-2: the particles placed (when bodies collide: the active ones, unless
-            ``everything`` or a rebuild), and the neighbour lists rebuilt (grid and lists) if a
-            particle may have moved half the skin since their last build."""
+            ``everything`` (0 or 1, may be a run-time value) or a rebuild), and the neighbour lists
+            rebuilt (grid and lists) if a particle may have moved half the skin since their last build."""
             if ti.static(pairs):
                 pair_stages.note_motion(state, scratch, parallel)
                 pair_stages.place_for_pairs(model, state, scratch, everything)
@@ -82,31 +82,37 @@ class EngineKernels:
         @ti.func
         def forces(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(),
                    parallel: ti.template(), weight):
-            """Stages 1-3: the pair forces (when bodies collide), then each block's forces and shares
-            (``weight``: the share of Δt this evaluation's force acts for, for the sticking springs)."""
+            """Stages 1-3: the particles placed (when bodies collide), then forces_placed."""
             if ti.static(pairs):
-                place_all(model, state, scratch, parallel, False)
+                place_all(model, state, scratch, parallel, 0)
+            forces_placed(model, state, world, scratch, parallel, weight)
+
+        @ti.func
+        def forces_placed(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(),
+                          parallel: ti.template(), weight):
+            """Stage 3: the pair forces (when bodies collide), then each block's forces and shares
+            (``weight``: the share of Δt this evaluation's force acts for, for the sticking springs)."""
             if ti.static(materials):  # each body's contacts now (planes, pairs), for its contacts' m_eff
                 for k in range(model.block_start.shape[0]):
                     material_stages.count_plane_block(model, state, world, scratch, k)
                 for b in range(state.x.shape[0]):
                     material_stages.sum_counts(model, state, scratch, b)
-            if ti.static(pairs):
+            if ti.static(pairs and not sleeping):
                 for t in range(neighbours.num_active(scratch)):  # each writes its own slot: any order
                     i = scratch.active[t]
                     if ti.static(materials):
                         material_stages.pair_stage(model, state, world, scratch, i)
-                    elif ti.static(sleeping):  # awake bodies; they mark the sleepers a moving one touches
-                        if not sleep.asleep(state, model.particle_body[i]):
-                            pair_stages.pair_stage(model, state, world, scratch, i, True)
                     else:
                         pair_stages.pair_stage(model, state, world, scratch, i, False)
-                if ti.static(sleeping):
-                    for t in range(neighbours.num_active(scratch)):  # the sleepers woken just now
-                        i = scratch.active[t]
-                        b = model.particle_body[i]
-                        if sleep.asleep(state, b) and not sleep.resting(state, b):
-                            pair_stages.pair_stage(model, state, world, scratch, i, False)
+            if ti.static(sleeping):  # two passes: the awake bodies (a moving one marks the sleepers it
+                # touches), then the sleepers woken just now. On one thread, a loop over the passes
+                # (the pair stage compiled once); in parallel each pass must be a top-level loop.
+                if ti.static(parallel):
+                    for wave in ti.static(range(2)):
+                        pair_stages.pair_wave(model, state, world, scratch, wave)
+                else:
+                    for wave in range(2):
+                        pair_stages.pair_wave(model, state, world, scratch, wave)
             for k in range(model.block_start.shape[0]):
                 if ti.static(materials):
                     material_stages.block_forces(u, model, state, world, scratch, k, pairs,
@@ -149,43 +155,70 @@ class EngineKernels:
                 schemes.rk4_stage(u, model, state, scratch, b, dt, F, tau, stage)
 
         @ti.func
-        def substep_stages(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(),
-                           parallel: ti.template()):
-            """One substep of every body. At a kernel's top level each loop is one parallel task (the
-            tasks run in order); inside a one-thread loop, all of it is serial."""
+        def rk4_finish(model: ti.template(), state: ti.template(), scratch: ti.template(), b, dt):
+            if ti.static(materials):
+                if not material_stages.is_static(model, b):
+                    schemes.rk4_finish(u, model, state, scratch, b, dt)
+            else:
+                schemes.rk4_finish(u, model, state, scratch, b, dt)
+
+        @ti.func
+        def substep_stages(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template()):
+            """One substep of every body, for the parallel schedule: each loop at the kernel's top
+            level is one parallel task (the tasks run in order), so RK4's stages are unrolled."""
             dt = world.values[DT]
             if ti.static(rk4):
                 for b in range(state.x.shape[0]):
                     schemes.rk4_begin(state, scratch, b)
-                if ti.static(parallel):  # each stage's loops top-level (parallel) tasks: unrolled
-                    for stage in ti.static(range(4)):
-                        forces(model, state, world, scratch, parallel, schemes.RK4_WEIGHTS[stage] / 6.0)
-                        for b in range(state.x.shape[0]):
-                            rk4_stage(model, state, scratch, b, dt, stage)
-                else:  # one thread: a loop, so that the pipeline is compiled once, not four times
-                    for stage in range(4):
-                        forces(model, state, world, scratch, parallel, schemes.rk4_weight(stage) / 6.0)
-                        for b in range(state.x.shape[0]):
-                            rk4_stage(model, state, scratch, b, dt, stage)
+                for stage in ti.static(range(4)):
+                    forces(model, state, world, scratch, True, schemes.RK4_WEIGHTS[stage] / 6.0)
+                    for b in range(state.x.shape[0]):
+                        rk4_stage(model, state, scratch, b, dt, stage)
                 for b in range(state.x.shape[0]):
-                    if ti.static(materials):
-                        if not material_stages.is_static(model, b):
-                            schemes.rk4_finish(u, model, state, scratch, b, dt)
-                    else:
-                        schemes.rk4_finish(u, model, state, scratch, b, dt)
+                    rk4_finish(model, state, scratch, b, dt)
             else:
-                forces(model, state, world, scratch, parallel, 1.0)
+                forces(model, state, world, scratch, True, 1.0)
                 for b in range(state.x.shape[0]):
                     body_step(model, state, scratch, world, b, dt)
+
+        @ti.func
+        def serial_frame(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(),
+                         substeps):
+            """One frame on one thread: its force evaluations (one per substep, four with RK4) as
+            one loop, whose extra last turn only places the particles for the frame's row. So
+            placement and the neighbour-list rebuild, and the force stages, are compiled once
+            (two copies of each made the kernel twice as slow to compile)."""
+            dt = world.values[DT]
+            per_step = 4 if ti.static(rk4) else 1
+            last = substeps * per_step
+            for e in range(last + 1):
+                if ti.static(pairs):
+                    place_all(model, state, scratch, False, e == last)
+                if e < last:
+                    stage = e % per_step
+                    if ti.static(rk4):
+                        if stage == 0:
+                            for b in range(state.x.shape[0]):
+                                schemes.rk4_begin(state, scratch, b)
+                        forces_placed(model, state, world, scratch, False, schemes.rk4_weight(stage) / 6.0)
+                        for b in range(state.x.shape[0]):
+                            rk4_stage(model, state, scratch, b, dt, stage)
+                        if stage == 3:
+                            for b in range(state.x.shape[0]):
+                                rk4_finish(model, state, scratch, b, dt)
+                    else:
+                        forces_placed(model, state, world, scratch, False, 1.0)
+                        for b in range(state.x.shape[0]):
+                            body_step(model, state, scratch, world, b, dt)
+            if ti.static(not pairs):
+                stages.place_particles(model, state)
 
         @ti.kernel
         def run_frames(model: M, state: S, world: W, scratch: C, rows: Rw, frames: ti.i32, substeps: ti.i32):
             # One thread: ``frames`` frames of ``substeps`` substeps, a row after each frame.
             ti.loop_config(serialize=True)
             for frame in range(frames):
-                for _step in range(substeps):
-                    substep_stages(model, state, world, scratch, False)
-                place_all(model, state, scratch, False, True)
+                serial_frame(model, state, world, scratch, substeps)
                 energy = 0.0
                 for k in range(model.block_start.shape[0]):
                     energy += stages.block_contact_energy(model, state, world, scratch, k, pairs)
@@ -193,11 +226,11 @@ class EngineKernels:
 
         @ti.kernel
         def substep(model: M, state: S, world: W, scratch: C):
-            substep_stages(model, state, world, scratch, True)
+            substep_stages(model, state, world, scratch)
 
         @ti.kernel
         def finish_frame(model: M, state: S, world: W, scratch: C, rows: Rw, slot: ti.i32):
-            place_all(model, state, scratch, True, True)
+            place_all(model, state, scratch, True, 1)
             for k in range(model.block_start.shape[0]):  # the blocks in parallel, summed in order below
                 scratch.block_energy[k] = stages.block_contact_energy(model, state, world, scratch, k, pairs)
             ti.loop_config(serialize=True)

@@ -22,11 +22,12 @@ def note_motion(state: ti.template(), scratch: ti.template(), parallel: ti.templ
 
 
 @ti.func
-def place_for_pairs(model: ti.template(), state: ti.template(), scratch: ti.template(), everything: ti.template()):
+def place_for_pairs(model: ti.template(), state: ti.template(), scratch: ti.template(), everything):
     """Stage 1b (bodies in contact): every particle placed if the lists are rebuilt now or
-    ``everything`` (a frame's end), else only the active ones (the pair stage reads no other)."""
+    ``everything`` (a frame's end; 0 or 1, may be a run-time value), else only the active ones
+    (the pair stage reads no other)."""
     gate = neighbours.rebuild_gate(scratch)
-    if ti.static(everything):
+    if everything:
         gate = 1
     for i in range(state.particle_x.shape[0] * gate):
         stages.place_particle(model, state, i)
@@ -66,10 +67,11 @@ def _visit(model: ti.template(), state: ti.template(), p, r_a, x_a, v_a, w_a, k,
 
 @ti.func
 def pair_forces(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(), i,
-                wake: ti.template()):
+                wake: ti.template(), waking=0):
     """Σ over slot i's neighbours (other bodies' particles, neighbours.py) of (force, couple about
     pᵢ, contact energy), in list order; a particle whose list overflowed walks the build's grid.
-    With ``wake``, a moving body marks the sleeping bodies it touches as woken (sleep.py)."""
+    With ``wake`` (compiled in) and ``waking`` (now), a moving body marks the sleeping bodies it
+    touches as woken (sleep.py)."""
     a = model.particle_body[i]
     p, r_a = state.particle_x[i], model.particle_radius[a]
     k, kd, mu = stages.contact_constants(world)
@@ -77,11 +79,11 @@ def pair_forces(model: ti.template(), state: ti.template(), world: ti.template()
     f = ti.Vector.zero(float, 3)
     couple = ti.Vector.zero(float, 3)
     energy = 0.0
-    stride = neighbours.list_stride(scratch, state)
-    n = scratch.nbr_count[i]
     waker = 0
     if ti.static(wake):
-        waker = sleep.moving(state, world, scratch, a)
+        waker = sleep.moving(state, world, scratch, a) * waking
+    stride = neighbours.list_stride(scratch, state)
+    n = scratch.nbr_count[i]
     if n <= stride:
         for t in range(n):
             fp, cp, ep = _visit(model, state, p, r_a, x_a, v_a, w_a, k, kd, mu, scratch.nbr_list[i * stride + t],
@@ -107,9 +109,20 @@ def pair_forces(model: ti.template(), state: ti.template(), world: ti.template()
 
 @ti.func
 def pair_stage(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(), i,
-               wake: ti.template()):
+               wake: ti.template(), waking=1):
     """Stage 3a (bodies in contact): slot i's force and couple from other bodies' particles
-    (``wake``: and the sleepers it wakes, sleep.py)."""
-    fp, cp, _e = pair_forces(model, state, world, scratch, i, wake)
+    (``wake`` and ``waking``: and the sleepers it wakes, sleep.py)."""
+    fp, cp, _e = pair_forces(model, state, world, scratch, i, wake, waking)
     scratch.particle_f[i] = fp
     scratch.particle_couple[i] = cp
+
+
+@ti.func
+def pair_wave(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(), wave):
+    """Stage 3a with sleeping bodies, pass ``wave``: 0, the awake bodies' particles (a moving body
+    marks the sleepers it touches, sleep.py); 1, the sleepers woken in pass 0."""
+    for t in range(neighbours.num_active(scratch)):  # each writes its own slot: any order
+        i = scratch.active[t]
+        b = model.particle_body[i]
+        if sleep.asleep(state, b) == (wave == 1) and (wave == 0 or not sleep.resting(state, b)):
+            pair_stage(model, state, world, scratch, i, True, 1 - wave)
