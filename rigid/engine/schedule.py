@@ -8,6 +8,12 @@ differ in who runs them:
   the worker threads costs 15-70 µs per loop on this project's 2-vCPU machine, and a launch
   from Python ~0.1-0.5 ms, so a substep must carry far more work than that to gain.
 
+Taichi 1.7's CPU thread pool also leaves small parallel loops to one thread: measured per
+thread (/proc), a 64-iteration range-for (block_dim 1, ~30 ms an iteration) ran entirely on one
+worker, a 1,024-iteration one split evenly. So a parallel substep's loops over a small scene's
+bodies and blocks run on one thread after paying the wake-up, and threads of a kernel cannot
+be made to wait for each other (a "team" schedule with barriers between stages deadlocked).
+
 Work per particle and substep on the 2-vCPU machine: ~1-3 ns for a body against the walls,
 100-250 ns for particles in contact with other bodies (the pair search). The thresholds are
 the break-evens for two threads measured with the engine's earlier paths (``scripts/bench.py``'s
