@@ -14,12 +14,15 @@ worker, a 1,024-iteration one split evenly. So a parallel substep's loops over a
 bodies and blocks run on one thread after paying the wake-up, and threads of a kernel cannot
 be made to wait for each other (a "team" schedule with barriers between stages deadlocked).
 
-Work per particle and substep on the 2-vCPU machine: ~1-3 ns for a body against the walls,
-100-250 ns for particles in contact with other bodies (the pair search). The thresholds are
-the break-evens for two threads measured with the engine's earlier paths (``scripts/bench.py``'s
-crossover, ``scripts/bench_many.py``), kept for this pipeline (not re-measured: its per-launch
-and per-task costs are about the same), and assumed to fall as 1/threads with more. A GPU always runs parallel (one
-GPU thread would run the whole scene).
+Bodies in contact, re-measured with this pipeline and its neighbour lists (piles of 42-vertex
+spheres falling into the box, symplectic, sleeping off, 30 frames after 5, wall µs a substep on
+the 2-vCPU machine, two runs each): 16,800 particles serial 1,093 / parallel 1,595; 29,400:
+1,895-2,144 / 2,136-2,246; 42,000: 2,985-3,024 / 2,811-3,151; 84,000: 7,276-7,511 /
+5,806-7,473. The break-even is ~40k-60k particles: the neighbour lists cut the work per
+particle to ~60-90 ns, so the wake-ups weigh more than when the 16,384 of the earlier paths was
+measured. Bodies against the walls alone: ~1-3 ns a particle, break-even 2²⁰ (the earlier
+paths' ``scripts/bench.py`` crossover, not re-measured). Both are assumed to fall as 1/threads
+with more threads. A GPU always runs parallel (one GPU thread would run the whole scene).
 """
 from __future__ import annotations
 
@@ -29,7 +32,7 @@ import taichi as ti
 
 # Particles from which two CPU threads beat one (see the module docstring).
 PARALLEL_MIN_PARTICLES_ALONE = 1 << 20  # bodies that touch only the static colliders
-PARALLEL_MIN_PARTICLES_PAIRS = 16384  # bodies that collide with one another
+PARALLEL_MIN_PARTICLES_PAIRS = 1 << 16  # bodies that collide with one another (16,384 before the lists)
 SCHEDULE_ENV = "RIGID_SCHEDULE"  # "serial" or "parallel" forces one (benchmarks, tests)
 
 
