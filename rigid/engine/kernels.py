@@ -80,14 +80,6 @@ class EngineKernels:
                 stages.place_particles(model, state)
 
         @ti.func
-        def forces(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(),
-                   parallel: ti.template(), weight):
-            """Stages 1-3: the particles placed (when bodies collide), then forces_placed."""
-            if ti.static(pairs):
-                place_all(model, state, scratch, parallel, 0)
-            forces_placed(model, state, world, scratch, parallel, weight)
-
-        @ti.func
         def forces_placed(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(),
                           parallel: ti.template(), weight):
             """Stage 3: the pair forces (when bodies collide), then each block's forces and shares
@@ -163,6 +155,18 @@ class EngineKernels:
                 schemes.rk4_finish(u, model, state, scratch, b, dt)
 
         @ti.func
+        def evaluate(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(),
+                     parallel: ti.template(), dt, stage, weight):
+            """One force evaluation on the placed particles (forces_placed), then every body's update:
+            RK4's ``stage`` (with its ``weight``), or the scheme's step."""
+            forces_placed(model, state, world, scratch, parallel, weight)
+            for b in range(state.x.shape[0]):
+                if ti.static(rk4):
+                    rk4_stage(model, state, scratch, b, dt, stage)
+                else:
+                    body_step(model, state, scratch, world, b, dt)
+
+        @ti.func
         def substep_stages(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template()):
             """One substep of every body, for the parallel schedule: each loop at the kernel's top
             level is one parallel task (the tasks run in order), so RK4's stages are unrolled."""
@@ -170,16 +174,14 @@ class EngineKernels:
             if ti.static(rk4):
                 for b in range(state.x.shape[0]):
                     schemes.rk4_begin(state, scratch, b)
-                for stage in ti.static(range(4)):
-                    forces(model, state, world, scratch, True, schemes.RK4_WEIGHTS[stage] / 6.0)
-                    for b in range(state.x.shape[0]):
-                        rk4_stage(model, state, scratch, b, dt, stage)
+            for stage in ti.static(range(4 if rk4 else 1)):
+                if ti.static(pairs):
+                    place_all(model, state, scratch, True, 0)
+                weight = ti.static(schemes.RK4_WEIGHTS[stage] / 6.0 if rk4 else 1.0)
+                evaluate(model, state, world, scratch, True, dt, stage, weight)
+            if ti.static(rk4):
                 for b in range(state.x.shape[0]):
                     rk4_finish(model, state, scratch, b, dt)
-            else:
-                forces(model, state, world, scratch, True, 1.0)
-                for b in range(state.x.shape[0]):
-                    body_step(model, state, scratch, world, b, dt)
 
         @ti.func
         def serial_frame(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(),
@@ -200,16 +202,12 @@ class EngineKernels:
                         if stage == 0:
                             for b in range(state.x.shape[0]):
                                 schemes.rk4_begin(state, scratch, b)
-                        forces_placed(model, state, world, scratch, False, schemes.rk4_weight(stage) / 6.0)
-                        for b in range(state.x.shape[0]):
-                            rk4_stage(model, state, scratch, b, dt, stage)
+                        evaluate(model, state, world, scratch, False, dt, stage, schemes.rk4_weight(stage) / 6.0)
                         if stage == 3:
                             for b in range(state.x.shape[0]):
                                 rk4_finish(model, state, scratch, b, dt)
                     else:
-                        forces_placed(model, state, world, scratch, False, 1.0)
-                        for b in range(state.x.shape[0]):
-                            body_step(model, state, scratch, world, b, dt)
+                        evaluate(model, state, world, scratch, False, dt, stage, 1.0)
             if ti.static(not pairs):
                 stages.place_particles(model, state)
 
