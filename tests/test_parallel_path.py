@@ -84,7 +84,7 @@ def test_without_walls_a_big_body_falls_through_the_floor(units):
     assert block["x"][-1, 0, 1] < -0.7
 
 
-def test_blocks_cover_every_particle_once_inside_their_spheres():
+def test_blocks_cover_every_particle_once_inside_their_boxes():
     from rigid.engine.blocks import block_layout
 
     rng = np.random.default_rng(1)
@@ -95,8 +95,9 @@ def test_blocks_cover_every_particle_once_inside_their_spheres():
     for k, (start, count, body) in enumerate(zip(lay["block_start"], lay["block_count"], lay["block_body"])):
         members = lay["order"][start:start + count]
         assert np.all((members >= [0, 700][body]) & (members < [700, 1000][body]))
-        distance = np.linalg.norm(r0[members] - lay["block_centre"][k], axis=1)
-        assert np.all(distance <= lay["block_reach"][k] * (1 + 1e-12))
+        offset = np.abs(r0[members] - lay["block_centre"][k])
+        assert np.all(offset <= lay["block_half"][k] * (1 + 1e-12))
+        assert np.any(np.isclose(offset, lay["block_half"][k], rtol=1e-12), axis=0).all()  # tight on each axis
 
 
 def test_reach_test_never_misses_a_particle_behind_a_plane(units):

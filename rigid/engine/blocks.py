@@ -1,11 +1,13 @@
 """Particles grouped into small, spatially compact blocks: the unit of work of a substep.
 
 The force stage visits a body's particles block by block (stages.py). Each block
-carries a bounding sphere of its particles' centres in the body frame (centre c, reach ρ);
-once per substep the sphere, moved to the world by (x, R), says
-which static planes a particle of the block may touch, and the block's particles are
-tested against those planes only: the others' forces would be exactly zero there. A
-body in flight tests no plane at all. The block is also the unit of summation: F and
+carries the bounding box of its particles' centres in the body frame (centre c, half
+extents h) and the sphere about c that holds them (reach ρ); once per substep these,
+moved to the world by (x, R), say which static planes a particle of the block may touch,
+and the block's particles are tested against those planes only: the others' forces would
+be exactly zero there. A body in flight tests no plane at all. (The box is the tighter
+bound for flat and cubic blocks: a torus at rest reaches the floor with 20 of its 64
+blocks by their boxes, 48 by their spheres; the sphere for round ones.) The block is also the unit of summation: F and
 τ are summed per block over its particles in slot order, then over the body's blocks
 in block order, so the sums do not depend on how many threads ran the blocks.
 
@@ -19,6 +21,7 @@ The layout (numpy arrays), N particles, K blocks, B bodies:
 - ``block_start``, ``block_count`` [K]  block k holds slots start .. start + count − 1
 - ``block_body``   [K]   the body that owns block k
 - ``block_centre`` [K, 3] centre of the block's bounding box, body frame
+- ``block_half``   [K, 3] that box's half extents along the body's axes (it holds every particle centre)
 - ``block_reach``  [K]   radius of the sphere about that centre holding every particle centre
 - ``body_block_start``, ``body_block_count`` [B]  body b's blocks, consecutive
 """
@@ -56,7 +59,7 @@ def morton_order(points: np.ndarray) -> np.ndarray:
 
 def block_layout(r0: np.ndarray, body_start, body_count, block_size: int) -> dict:
     """Host-side layout (numpy) of the blocks of every body; see the module docstring."""
-    order, starts, counts, owners, centres, reaches = [], [], [], [], [], []
+    order, starts, counts, owners, centres, halves, reaches = [], [], [], [], [], [], []
     body_block_start, body_block_count = [], []
     for b, (start, count) in enumerate(zip(body_start, body_count)):
         body_order = start + morton_order(r0[start:start + count])
@@ -69,9 +72,10 @@ def block_layout(r0: np.ndarray, body_start, body_count, block_size: int) -> dic
             counts.append(len(members))
             owners.append(b)
             centres.append(centre)
+            halves.append(np.abs(points - centre).max(axis=0))
             reaches.append(float(np.sqrt(((points - centre) ** 2).sum(axis=1).max())))
         body_block_count.append(len(starts) - body_block_start[-1])
         order.append(body_order)
     return dict(order=np.concatenate(order), block_start=np.array(starts), block_count=np.array(counts),
-                block_body=np.array(owners), block_centre=np.array(centres), block_reach=np.array(reaches),
-                body_block_start=np.array(body_block_start), body_block_count=np.array(body_block_count))
+                block_body=np.array(owners), block_centre=np.array(centres), block_half=np.array(halves),
+                block_reach=np.array(reaches),                 body_block_start=np.array(body_block_start), body_block_count=np.array(body_block_count))

@@ -64,24 +64,27 @@ def place_particles(model: ti.template(), state: ti.template()):
 def planes_in_reach(model: ti.template(), state: ti.template(), world: ti.template(), k):
     """Bit j set where a particle's sphere of block k may touch plane j (a NaN sets every bit).
 
-    A particle lies at p = c + R (r0 − c0) with |r0 − c0| <= ρ (the block's reach) and
-    c = x + R c0, so n·p >= n·c − |Rᵀn| ρ for any matrix R: a rotation (|Rᵀn| = 1) or not (a
-    TODO unit may let q drift from unit length). The plane is skipped when even that bound
-    leaves the sphere (radius r) clear of it, padded by CLEAR_MARGIN for round-off."""
+    A particle lies at p = c + R d with c = x + R c0 and d = r0 − c0 inside the block's box
+    (|dₐ| <= hₐ) and sphere (|d| <= ρ), so on each world axis |pᵢ − cᵢ| <= eᵢ =
+    min(Σₐ |Rᵢₐ| hₐ, |Rᵢ| ρ) (Rᵢ the matrix's row), and n·p >= n·c − |n|·e, for any matrix R:
+    a rotation or not (a TODO unit may let q drift from unit length). The plane is skipped
+    when even that bound leaves the sphere (radius r) clear of it, padded by CLEAR_MARGIN for
+    round-off. Both bounds, as each is the tighter for some blocks: a torus at rest reaches
+    the floor with 20 of its 64 blocks by their boxes, 48 by their spheres; a round block's
+    sphere is up to √3 tighter than its box. Exact along a world axis (the box's planes)."""
     b = model.block_body[k]
     x, R = state.x[b], state.R[b]
-    c0 = model.block_centre[k]
+    c0, half, rho = model.block_centre[k], model.block_half[k], model.block_reach[k]
     c = x + matvec(R, c0)
-    rho, radius = model.block_reach[k], model.particle_radius[b]
+    extent = ti.min(matvec(ti.abs(R), half), rho * ti.Vector([R[0, :].norm(), R[1, :].norm(), R[2, :].norm()]))
+    radius = model.particle_radius[b]
     size = ti.abs(x).max() + ti.abs(R).max() * (ti.abs(c0).max() + rho) + radius
     near = 0
     for j in range(num_planes(world)):
         plane = world.planes[j]
         n = ti.Vector([plane[0], plane[1], plane[2]])
-        # Clear when gap > |Rᵀn| ρ, compared squared (no square root per block and plane).
         gap = n.dot(c) - plane[3] - radius - CLEAR_MARGIN * (size + ti.abs(plane[3]))
-        arm = matvec(R.transpose(), n)
-        if not (gap > 0 and gap * gap > arm.dot(arm) * rho * rho):  # written so that a NaN is near
+        if not (gap > ti.abs(n).dot(extent)):  # written so that a NaN is near
             near |= 1 << j
     return near
 
