@@ -66,8 +66,7 @@ ModelArgs = _pack_type(dict(
     particle_mass=("f", 1), particle_radius=("f", 1), body_mass=("f", 1),
     inertia_body=("m3", 1), inertia_body_inv=("m3", 1),
     block_start=("i", 1), block_count=("i", 1), block_body=("i", 1),
-    block_centre=("v3", 1), block_half=("v3", 1), block_reach=("f", 1), body_block_start=("i", 1),
-    body_block_count=("i", 1),
+    block_centre=("v3", 1), block_bounds=("v4", 1), body_block_start=("i", 1), body_block_count=("i", 1),
     body_material=("v4", 1)))
 
 

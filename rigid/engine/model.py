@@ -17,8 +17,9 @@ is the run's precision, f32 or f64), all read-only during a run:
 - ``inertia_body_inv``   [B] mat3   I0⁻¹ (zero where TODO 1 gave a singular I0)
 - ``block_start``, ``block_count``, ``block_body``  [K] i32   block k: its particle slots and body
 - ``block_centre``       [K] vec3   centre of the block's particles' bounding box, body frame
-- ``block_half``         [K] vec3   that box's half extents along the body's axes, m
-- ``block_reach``        [K] float  radius of the sphere about that centre holding every particle centre, m
+- ``block_bounds``       [K] vec4   that box's half extents along the body's axes (3), and the radius of
+                                    the sphere about that centre holding every particle centre (one
+                                    array: a kernel takes at most 64 argument elements), m
 - ``body_block_start``, ``body_block_count``  [B] i32  body b's blocks, consecutive
 - ``body_material``      [B] vec4   (Coulomb μ, restitution e, 1 if static else 0, 0): materials.py,
                                     −1 for an unset μ or e; a static mesh has infinite mass, is not integrated
@@ -102,8 +103,8 @@ class Model:
             setattr(self, name, device_array(layout[name], dtype=ti.i32))
         self.block_centre = device_array(layout["block_centre"], 3)
         # Rounded up, so that the float copies never under-cover their blocks.
-        self.block_half = device_array(np.nextafter(layout["block_half"].astype(host_float()), np.inf), 3)
-        self.block_reach = device_array(np.nextafter(layout["block_reach"].astype(host_float()), np.inf))
+        bounds = np.column_stack([layout["block_half"], layout["block_reach"]])
+        self.block_bounds = device_array(np.nextafter(bounds.astype(host_float()), np.inf), 4)
 
         self.static_np = np.array([bool(b.static) for b in bodies])
         self.body_material = device_array(np.array([(friction_value(b.friction), friction_value(b.restitution),

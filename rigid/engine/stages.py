@@ -74,7 +74,8 @@ def planes_in_reach(model: ti.template(), state: ti.template(), world: ti.templa
     sphere is up to √3 tighter than its box. Exact along a world axis (the box's planes)."""
     b = model.block_body[k]
     x, R = state.x[b], state.R[b]
-    c0, half, rho = model.block_centre[k], model.block_half[k], model.block_reach[k]
+    c0, bounds = model.block_centre[k], model.block_bounds[k]
+    half, rho = ti.Vector([bounds[0], bounds[1], bounds[2]]), bounds[3]
     c = x + matvec(R, c0)
     extent = ti.min(matvec(ti.abs(R), half), rho * ti.Vector([R[0, :].norm(), R[1, :].norm(), R[2, :].norm()]))
     radius = model.particle_radius[b]
