@@ -103,6 +103,26 @@ def test_the_parallel_schedule_follows_the_serial_one(units, many):
     np.testing.assert_allclose(parallel["potential_energy"], serial["potential_energy"], rtol=1e-3, atol=1e-3)
 
 
+def test_the_schedule_can_change_between_frames(units):
+    """Setting Simulator.schedule between frames runs the other schedule's kernels from there
+    (scripts/bench.py compares them on one Simulator): the run goes on as a serial one does."""
+    from rigid.config import SimConfig
+    from rigid.engine.simulator import Simulator
+
+    config = SimConfig(fp64=False, **THROWN).validate()
+    switched, serial = Simulator(config, units, schedule="serial"), Simulator(config, units, schedule="serial")
+    first = switched.advance_frames(10)
+    switched.schedule = "parallel"
+    rows = switched.advance_frames(10)
+    expected = serial.advance_frames(20)
+    assert np.array_equal(first["x"], expected["x"][:10])
+    scale = np.abs(expected["x"]).max()
+    np.testing.assert_allclose(rows["x"], expected["x"][10:], rtol=0, atol=2e-4 * scale)
+    assert not np.array_equal(rows["x"][0], first["x"][-1])  # it moved on
+    with pytest.raises(ValueError, match="serial"):
+        switched.schedule = "threads"
+
+
 @pytest.mark.parametrize("schedule", ["serial", "parallel"])
 def test_prepared_launches_are_the_plain_kernel_calls(units, schedule):
     """The Simulator launches its kernels with their arguments set once (rigid.engine.launch):

@@ -66,10 +66,22 @@ class Simulator:
         self.rows = FrameRows(B)
         self.scratch, self._scratch_arrays, self.grid_shape, self.cell_size = make_scratch(
             self.model, config, pairs, self.materials)
-        self.schedule = choose_schedule(N, pairs, schedule)
         self._launches = None
+        self.schedule = choose_schedule(N, pairs, schedule)
         self._surface_out = np.empty((max(self.model.num_surface, 1), 3), host_float())
         self.reset()
+
+    @property
+    def schedule(self) -> str:
+        """"serial" or "parallel" (rigid.engine.schedule); settable between frames, e.g. to compare them."""
+        return self._schedule
+
+    @schedule.setter
+    def schedule(self, value: str) -> None:
+        if value not in ("serial", "parallel"):
+            raise ValueError(f"schedule = {value!r}: use 'serial' or 'parallel'")
+        self._schedule = value
+        self._launches = None  # the other schedule's kernels, prepared on the next run
 
     # -- sizes ------------------------------------------------------------------------------
     @property
