@@ -13,6 +13,7 @@ marker), and runs a GGUI ``while window.running:`` loop at module level.
 - variants.py   the file with some regions replaced, other parameters, the grader's harness kernels
 - harness.py    each region alone in a kernel, called on the seeded inputs of specs.py (the direct check)
 - headless.py   stand-ins for ti.init, ti.ui and ti.GUI: no window, N frames, a snapshot per frame
+- fields.py     one set of fields for all the versions of a file, zeroed before each (kernels compile once)
 - runner.py     import a variant under the stand-ins and return its trajectory
 - attribution.py  per-TODO trajectory runs (joint, then halves) with the file's and perturbed parameters
 - child.py      the sandboxed child's work for this format (same events as ../child.py)

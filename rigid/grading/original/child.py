@@ -38,12 +38,13 @@ def init_taichi():
 
     import taichi as ti
 
-    from . import headless
+    from . import fields, headless
 
     with contextlib.redirect_stdout(sys.stderr):
         ti.init(arch=ti.cpu, default_fp=ti.f32, debug=False, log_level=ti.ERROR, offline_cache=True,
                 random_seed=0, cpu_max_num_threads=1, advanced_optimization=False)
     headless.install(ti)
+    fields.install(ti)  # one set of fields for every version of the file
     from ...engine import frontend
 
     frontend.install()  # each AST node's debug string formatted once (the file's versions share code)

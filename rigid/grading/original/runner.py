@@ -23,6 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
+from . import fields
 from .headless import Recorder, State, StopRun
 
 FRAMES = 30  # half a second at the handout's 16 substeps of 1 ms a frame
@@ -48,6 +49,7 @@ class Run:
 def run(variant, path: Path, frames: int = FRAMES) -> Run:
     path = Path(path)
     path.write_text(variant.text, encoding="utf-8")
+    fields.new_version()  # the fields of earlier versions, zeroed (fields.py)
     name = f"_original_{uuid.uuid4().hex[:8]}"
     spec = importlib.util.spec_from_file_location(name, path)
     module = importlib.util.module_from_spec(spec)
