@@ -45,6 +45,15 @@ class PreparedLaunch:
         return self._launch is not None
 
 
+def schedule_launches(schedule: str, kernels, model, state, world, scratch, rows) -> dict:
+    """The launches a run repeats on ``schedule``: "serial", a chunk of frames in one launch
+    (``run_frames``); "parallel", a substep and a frame's end (``substep``, ``finish_frame``)."""
+    if schedule == "serial":
+        return dict(run_frames=PreparedLaunch(kernels.run_frames, model, state, world, scratch, rows, 1, 1))
+    return dict(substep=PreparedLaunch(kernels.substep, model, state, world, scratch),
+                finish_frame=PreparedLaunch(kernels.finish_frame, model, state, world, scratch, rows, 0))
+
+
 def _prepare(kernel, args):
     from taichi.lang import impl
     from taichi.lang._ndarray import Ndarray

@@ -36,14 +36,19 @@ PARALLEL_MIN_PARTICLES_PAIRS = 1 << 16  # bodies that collide with one another (
 SCHEDULE_ENV = "RIGID_SCHEDULE"  # "serial" or "parallel" forces one (benchmarks, tests)
 
 
+def check_schedule(name: str) -> str:
+    """``name`` if it is a schedule's, else a ValueError naming both."""
+    if name not in ("serial", "parallel"):
+        raise ValueError(f"schedule = {name!r}: use 'serial' or 'parallel'")
+    return name
+
+
 def choose_schedule(num_particles: int, pairs: bool, forced: str | None = None) -> str:
     """"serial" or "parallel" for a scene of ``num_particles`` on the current Taichi arch.
     ``forced`` (or the RIGID_SCHEDULE environment variable) overrides the choice."""
     forced = forced or os.environ.get(SCHEDULE_ENV) or None
     if forced is not None:
-        if forced not in ("serial", "parallel"):
-            raise ValueError(f"schedule = {forced!r}: use 'serial' or 'parallel'")
-        return forced
+        return check_schedule(forced)
     cfg = ti.lang.impl.current_cfg()
     if cfg.arch not in (ti.x64, ti.arm64):
         return "parallel"

@@ -23,10 +23,10 @@ from .arrays import clear, download, host_float, upload
 from .grab import default_spring, holding, released
 from .kernels import engine_kernels
 from .scratch import make_scratch
-from .launch import PreparedLaunch
+from .launch import schedule_launches
 from .model import BodyParts, Model
 from .rows import FrameRows, split_rows, with_energies
-from .schedule import choose_schedule
+from .schedule import check_schedule, choose_schedule
 from .state import Params, State
 from .units import check_units
 
@@ -73,17 +73,13 @@ class Simulator:
 
     @property
     def schedule(self) -> str:
-        """"serial" or "parallel" (rigid.engine.schedule); settable between frames, e.g. to compare them."""
+        """"serial" or "parallel" (rigid.engine.schedule); may be set between frames."""
         return self._schedule
 
     @schedule.setter
     def schedule(self, value: str) -> None:
-        if value not in ("serial", "parallel"):
-            raise ValueError(f"schedule = {value!r}: use 'serial' or 'parallel'")
-        self._schedule = value
-        self._launches = None  # the other schedule's kernels, prepared on the next run
+        self._schedule, self._launches = check_schedule(value), None  # its launches made at the next run
 
-    # -- sizes ------------------------------------------------------------------------------
     @property
     def num_bodies(self) -> int:
         return self.model.num_bodies
@@ -111,7 +107,6 @@ class Simulator:
         """(N,) candidates in each particle's list at its last build (slot order; benchmarks)."""
         return download(self._scratch_arrays["nbr_count"])
 
-    # -- state ------------------------------------------------------------------------------
     def reset(self):
         """Back to the initial state of the bodies; the model is kept (no mesh reload)."""
         self.time = 0.0
@@ -162,7 +157,6 @@ class Simulator:
         check_start(self.config, bodies)
         self.bodies = bodies
 
-    # -- stepping ---------------------------------------------------------------------------
     def step_frame(self, substeps: int | None = None):
         """One frame (1/60 s, or ``substeps`` substeps); its row is kept on the device."""
         n = self.substeps if substeps is None else int(substeps)
@@ -218,12 +212,8 @@ class Simulator:
         costs nothing here) and only for its schedule: a kernel is compiled when first launched,
         so a serial run never compiles the parallel kernels (a lone body's first run ~40 % less)."""
         if self._launches is None:
-            k, m, s, w, c, r = self.kernels, self.model.args, self.state.args, self.params.args, self.scratch, self.rows.args
-            if self.schedule == "serial":
-                self._launches = dict(run_frames=PreparedLaunch(k.run_frames, m, s, w, c, r, 1, 1))
-            else:
-                self._launches = dict(substep=PreparedLaunch(k.substep, m, s, w, c),
-                                      finish_frame=PreparedLaunch(k.finish_frame, m, s, w, c, r, 0))
+            self._launches = schedule_launches(self.schedule, self.kernels, self.model.args, self.state.args,
+                                               self.params.args, self.scratch, self.rows.args)
         return self._launches
 
     def wake(self, bodies=None):
@@ -270,7 +260,6 @@ class Simulator:
         self.params.upload(wakes=False)
         self.grabbed = None
 
-    # -- reading ----------------------------------------------------------------------------
     def snapshot(self) -> dict:
         """The state and energies as float64 numpy: ``t``; per body ``x`` (B, 3), ``q`` (B, 4),
         ``v``, ``omega``, ``P``, ``L`` (B, 3); ``kinetic_energy``, ``potential_energy`` totals."""
