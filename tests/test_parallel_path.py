@@ -6,7 +6,8 @@
   particle with every plane (the handout-style baseline of rigid/bench/handout.py, an
   independent implementation) through contacts with the floor and a wall: a skipped contact
   would move the body by millimetres, round-off by micrometres.
-- Blocks cover every particle once and their spheres contain their particles; the per-block
+- The grader's compact particle loop (every plane tested) gives the culled loops' forces.
+- Blocks cover every particle once and their boxes contain their particles; the per-block
   reach test never misses a particle behind a plane, for rotations and for matrices that are not.
 Speeds are measured by scripts/bench.py, never asserted here.
 """
@@ -56,6 +57,23 @@ def test_parallel_schedule_follows_serial_and_is_bit_reproducible(units):
     scale = np.abs(serial).max()
     np.testing.assert_allclose(parallel, serial, rtol=0, atol=2e-5 * scale)
     assert np.array_equal(parallel, again)
+
+
+def test_the_compact_block_loop_gives_the_culled_loops_forces(units):
+    """kernels.compact_block_loops (the grader's processes): one particle loop that tests every
+    plane follows the four culled loops through the floor and wall contacts, to round-off."""
+    from rigid.engine.kernels import compact_block_loops
+
+    culled = _state(_cube(units).advance_frames(FRAMES))
+    compact_block_loops()
+    try:
+        sim = _cube(units)
+    finally:
+        compact_block_loops(False)
+    assert sim.kernels.compact and not _cube(units).kernels.compact
+    compact = _state(sim.advance_frames(FRAMES))
+    assert np.linalg.norm(culled[7:10] - 5832 * np.array(THROW["initial_velocity"])) > 0.5 * 5832  # it hit
+    np.testing.assert_allclose(compact, culled, rtol=0, atol=2e-5 * np.abs(culled).max())
 
 
 def test_blocked_sum_with_culling_matches_a_plain_particle_loop(units):

@@ -64,7 +64,7 @@ def _kernels(units):
         ti.loop_config(serialize=True)
         for _ in range(reps):
             for k in range(model.block_start.shape[0]):
-                stages.block_forces(u, model, state, world, scratch, k, True)
+                stages.block_forces(u, model, state, world, scratch, k, True, False)
 
     @ti.kernel
     def update(model: M, state: S, world: W, scratch: C, reps: ti.i32):

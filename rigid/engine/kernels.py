@@ -21,7 +21,18 @@ from .state import DT
 from .rows import write_row
 
 _CACHE: dict = {}
+_COMPACT = [False]  # compact_block_loops()
 frontend.install()  # the frontend's debug strings formatted once per node (frontend.py)
+
+
+def compact_block_loops(on: bool = True) -> None:
+    """From now on in this process, compile one loop over a block's particles that tests every
+    plane, instead of four (no plane, one, three, all) chosen per block by the planes in reach:
+    the same forces (a plane out of reach gives exactly zero), ~17 % less to compile for a
+    lone body, slower for big bodies near no wall. For processes that compile much and run
+    little: the grader's children and --check (rigid.grading.checks), each compiling a
+    student's units for 480 substeps of ten particles."""
+    _COMPACT[0] = bool(on)
 
 
 def engine_kernels(units, scheme: str, pairs: bool, materials: bool = False) -> "EngineKernels":
@@ -30,16 +41,16 @@ def engine_kernels(units, scheme: str, pairs: bool, materials: bool = False) -> 
     pair stages are compiled only for scenes that need them, which halves a lone body's
     compile time) and whether the scene sets materials or static colliders (``materials``:
     material_stages.py's force stages), compiled on first use in this process."""
-    key = (id(units), scheme, bool(pairs), bool(materials))
+    key = (id(units), scheme, bool(pairs), bool(materials), _COMPACT[0])
     entry = _CACHE.get(key)
     if entry is None or entry.units is not units:
-        entry = _CACHE[key] = EngineKernels(units, scheme, bool(pairs), bool(materials))
+        entry = _CACHE[key] = EngineKernels(units, scheme, bool(pairs), bool(materials), _COMPACT[0])
     return entry
 
 
 class EngineKernels:
-    def __init__(self, units, scheme: str, pairs: bool, materials: bool = False):
-        self.units, self.scheme, self.pairs, self.materials = units, scheme, pairs, materials
+    def __init__(self, units, scheme: str, pairs: bool, materials: bool = False, compact: bool = False):
+        self.units, self.scheme, self.pairs, self.materials, self.compact = units, scheme, pairs, materials, compact
         u = units
         M, S, W, C, Rw, Sf = ModelArgs(), StateArgs(), WorldArgs(), ScratchArgs(), RowArgs(), SurfaceArgs()
         rk4 = scheme == "rk4"
@@ -111,9 +122,9 @@ class EngineKernels:
                                                  weight * world.values[DT], not rk4)
                 elif ti.static(sleeping):
                     if not sleep.resting(state, model.block_body[k]):
-                        stages.block_forces(u, model, state, world, scratch, k, pairs)
+                        stages.block_forces(u, model, state, world, scratch, k, pairs, compact)
                 else:
-                    stages.block_forces(u, model, state, world, scratch, k, pairs)
+                    stages.block_forces(u, model, state, world, scratch, k, pairs, compact)
 
         @ti.func
         def body_step(model: ti.template(), state: ti.template(), scratch: ti.template(), world: ti.template(), b, dt):

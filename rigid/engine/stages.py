@@ -137,7 +137,7 @@ def _block_loop(u: ti.template(), model: ti.template(), world: ti.template(), sc
 
 @ti.func
 def _block_share(u: ti.template(), model: ti.template(), state: ti.template(), world: ti.template(),
-                 scratch: ti.template(), k, pairs: ti.template()):
+                 scratch: ti.template(), k, pairs: ti.template(), compact: ti.template()):
     b = model.block_body[k]
     start = model.block_start[k]
     end = start + model.block_count[k]
@@ -161,7 +161,9 @@ def _block_share(u: ti.template(), model: ti.template(), state: ti.template(), w
             elif used == 2:
                 plane2 = world.planes[j]
             used += 1
-    if used == 0:
+    if ti.static(compact):  # one loop for every case (kernels.compact_block_loops)
+        F, tau = _block_loop(u, model, world, scratch, start, end, b, x, R, v, omega, plane0, plane1, plane2, pairs, -1)
+    elif used == 0:
         F, tau = _block_loop(u, model, world, scratch, start, end, b, x, R, v, omega, plane0, plane1, plane2, pairs, 0)
     elif used == 1:  # e.g. resting on the floor
         F, tau = _block_loop(u, model, world, scratch, start, end, b, x, R, v, omega, plane0, plane1, plane2, pairs, 1)
@@ -176,10 +178,11 @@ def _block_share(u: ti.template(), model: ti.template(), state: ti.template(), w
 
 @ti.func
 def block_forces(u: ti.template(), model: ti.template(), state: ti.template(), world: ti.template(),
-                 scratch: ti.template(), k, pairs: ti.template()):
+                 scratch: ti.template(), k, pairs: ti.template(), compact: ti.template()):
     """Stage 3b for block k: its particles' forces (TODO 2 + planes + pairs if ``pairs``) and the
-    block's share of F (TODO 3) and τ (TODO 4), summed in slot order into scratch.partial_F, partial_tau."""
-    _block_share(u, model, state, world, scratch, k, pairs)
+    block's share of F (TODO 3) and τ (TODO 4), summed in slot order into scratch.partial_F, partial_tau.
+    ``compact``: one particle loop that tests every plane (kernels.compact_block_loops)."""
+    _block_share(u, model, state, world, scratch, k, pairs, compact)
 
 
 @ti.func

@@ -29,10 +29,13 @@ def init_grading_taichi() -> None:
     reference's answers and in ``--check``: float64, and quick compiling (Taichi's advanced IR
     optimisations off: each file compiles its units into the engine and runs 480 substeps of
     ten particles, so compiling is nearly all the time). The same set-up everywhere, so the
-    answers and a student's values agree to the last bit where the code is the same."""
+    answers and a student's values agree to the last bit where the code is the same. For the
+    same reason the engine compiles one block loop for every case (compact_block_loops)."""
+    from ..engine.kernels import compact_block_loops
     from ..runtime import init_taichi
 
     init_taichi("cpu", fp64=True, quick_compile=True)
+    compact_block_loops()
 
 
 def evaluate(spec, unit, inputs: dict) -> dict:
