@@ -116,9 +116,13 @@ def ti_cpu():
 
 @pytest.fixture(scope="session")
 def units(ti_cpu):
-    from rigid.engine.units import load_units
+    """The solution's units: the same module as rigid.Simulator's and the command line's default
+    (rigid.engine.units.default_units), so that in-process runs of either share the kernels,
+    which are compiled per units module (a second module would trace every kernel again)."""
+    from rigid.engine.units import default_units
 
-    return load_units(SOLUTION)
+    assert Path(default_units().__file__).resolve() == SOLUTION.resolve()
+    return default_units()
 
 
 @pytest.fixture(scope="session")
