@@ -13,7 +13,8 @@
                 load) from each scheme's own clamped oscillator; material_stages.py: the force
                 stages when a scene sets materials, planes or static meshes
   schemes.py    the updates from (F, τ): explicit Euler (TODO 5-7), symplectic Euler, RK4
-  kernels.py    the kernels, cached per (TODO units, scheme); schedule.py: serial or parallel
+  kernels.py    the kernels, cached per (TODO units, scheme; compact particle loops for the grader);
+                schedule.py: serial or parallel; launch.py: launches with their arguments set once
   rows.py       a row of state per frame, for the host; simulator.py: the facade
   units.py      the TODO units' contract; rotation.py, matvec.py: helpers; frontend.py: Taichi's
                 frontend formats each AST node's debug string once (compiles cheaper to repeat)
