@@ -108,6 +108,12 @@ def _layout(array):
     return _HOST[str(array.dtype)], tuple(array.shape) + tuple(array.arr.element_shape())
 
 
+def byte_size(array) -> int:
+    """How many bytes ``array``'s elements take."""
+    dtype, shape = _layout(array)
+    return int(np.prod(shape)) * np.dtype(dtype).itemsize
+
+
 # Taichi's ndarray.from_numpy / to_numpy / fill (of vectors) launch a kernel that takes the
 # ndarray as a template argument, so every array compiles (or loads and links) a kernel of its
 # own: ~50 for a Simulator, about a second of every process's start-up. On the CPU the arrays
@@ -144,9 +150,8 @@ def clear(array) -> None:
     if pointer is None:
         array.fill(0)
         return
-    dtype, shape = _layout(array)
     ti.sync()
-    ctypes.memset(pointer, 0, int(np.prod(shape)) * np.dtype(dtype).itemsize)
+    ctypes.memset(pointer, 0, byte_size(array))
 
 
 def device_array(values: np.ndarray, width: int = 0, dtype=None):

@@ -7,9 +7,10 @@ moved to the world by (x, R), say which static planes a particle of the block ma
 and the block's particles are tested against those planes only: the others' forces would
 be exactly zero there. A body in flight tests no plane at all. (The box is the tighter
 bound for flat and cubic blocks: a torus at rest reaches the floor with 20 of its 64
-blocks by their boxes, 48 by their spheres; the sphere for round ones.) The block is also the unit of summation: F and
-τ are summed per block over its particles in slot order, then over the body's blocks
-in block order, so the sums do not depend on how many threads ran the blocks.
+blocks by their boxes, 48 by their spheres; the sphere for round ones.) The block is also
+the unit of summation: F and τ are summed per block over its particles in slot order, then
+over the body's blocks in block order, so the sums do not depend on how many threads ran
+the blocks.
 
 Blocks are cut from the body's particles sorted along a Morton (Z-order) curve
 of their body-frame positions, so consecutive particles are close in space: a
@@ -78,4 +79,5 @@ def block_layout(r0: np.ndarray, body_start, body_count, block_size: int) -> dic
         order.append(body_order)
     return dict(order=np.concatenate(order), block_start=np.array(starts), block_count=np.array(counts),
                 block_body=np.array(owners), block_centre=np.array(centres), block_half=np.array(halves),
-                block_reach=np.array(reaches),                 body_block_start=np.array(body_block_start), body_block_count=np.array(body_block_count))
+                block_reach=np.array(reaches), body_block_start=np.array(body_block_start),
+                body_block_count=np.array(body_block_count))

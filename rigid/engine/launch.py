@@ -20,6 +20,8 @@ not as expected it falls back to the plain call, which gives the same results.
 """
 from __future__ import annotations
 
+from .arrays import _cpu_pointer, byte_size
+
 
 class PreparedLaunch:
     def __init__(self, kernel, *args):
@@ -62,14 +64,14 @@ def _prepare(kernel, args):
     primal = kernel._primal
     key = primal.ensure_compiled(*args)
     t_kernel = primal.compiled_kernels[key]
-    packs, arrays, ints, later = [], [], {}, []
+    packs, arrays, ints, members = [], [], {}, []
     for i, (value, argument) in enumerate(zip(args, primal.arguments)):
         if isinstance(value, ArgPack):  # its ndarrays go after the kernel's own arguments
             for name in argument.annotation.members:
                 member = value[name]
                 if not isinstance(member, Ndarray) or member.grad is not None:
                     raise TypeError("only packs of ndarrays are prepared")
-                later.append(member)
+                members.append(member)
             packs.append(((i,), value._ArgPack__argpack))
         elif isinstance(value, Ndarray) and value.grad is None:
             arrays.append(((i,), value))
@@ -78,25 +80,28 @@ def _prepare(kernel, args):
         else:
             raise TypeError(f"argument {argument.name}: not prepared")
     # As Taichi orders them: the kernel's own arguments, the packs, then the packs' arrays.
-    arrays += [((len(args) + j,), array) for j, array in enumerate(later)]
+    later = [((len(args) + j,), array) for j, array in enumerate(members)]
     program = impl.get_runtime().prog
-    addresses = [_cpu_address(array) for _index, array in arrays]
+    addresses = [_cpu_pointer(array) for _index, array in arrays + later]
 
     def compiled():
         return program.compile_kernel(program.config(), program.get_device_caps(), t_kernel)
 
+    def set_ints(context, scalars):
+        for name, value in scalars.items():
+            ints[name][1] = int(value)
+        for index, value in ints.values():
+            context.set_arg_int(index, value)
+
     if all(address is not None for address in addresses):  # the CPU: one context for every launch
         context = t_kernel.make_launch_context()
-        for (index, array), address in zip(arrays, addresses):
-            context.set_arg_external_array_with_shape(index, address, _bytes(array), list(array.shape), 0)
+        for (index, array), address in zip(arrays + later, addresses):
+            context.set_arg_external_array_with_shape(index, address, byte_size(array), list(array.shape), 0)
         for index, pack in packs:
             context.set_arg_argpack(index, pack)
 
         def launch(scalars):
-            for name, value in scalars.items():
-                ints[name][1] = int(value)
-            for index, value in ints.values():
-                context.set_arg_int(index, value)
+            set_ints(context, scalars)
             program.launch_kernel(compiled(), context)
 
         return launch
@@ -104,32 +109,13 @@ def _prepare(kernel, args):
     def launch_fresh(scalars):
         # A fresh context per launch: the launcher rewrites a context's array slots in place.
         context = t_kernel.make_launch_context()
-        for name, value in scalars.items():
-            ints[name][1] = int(value)
-        for index, value in ints.values():
-            context.set_arg_int(index, value)
-        for index, array in arrays[:len(arrays) - len(later)]:
+        set_ints(context, scalars)
+        for index, array in arrays:
             context.set_arg_ndarray(index, array.arr)
         for index, pack in packs:
             context.set_arg_argpack(index, pack)
-        for index, array in arrays[len(arrays) - len(later):]:
+        for index, array in later:
             context.set_arg_ndarray(index, array.arr)
         program.launch_kernel(compiled(), context)
 
     return launch_fresh
-
-
-def _cpu_address(array):
-    from .arrays import _cpu_pointer
-
-    return _cpu_pointer(array)
-
-
-def _bytes(array) -> int:
-    from .arrays import _layout
-
-    dtype, shape = _layout(array)
-    count = 1
-    for n in shape:
-        count *= n
-    return count * dtype().itemsize
