@@ -8,7 +8,8 @@ Misbehaving batch (--timeout 10): a crash, a sys.exit, an endless loop at
 import, an endless loop inside TODO 6 and a memory hog each lose only their
 own points, within the time limit. Original batch: files in the course's
 original handout format (tests/data/original_handout/ in the real handout's
-shape, and grading_original_variants.py's variants of it, detected as such):
+shape, and grading_original_variants.py's variants of it, detected as such; graded with
+--original-handout, so each child starts from the kernels of the handout solved):
 solved, marker spellings, layout, black, bonus terms inside TODOs, edits of the
 given code and other parameters score 90/90 with their notes, unsolved 0, each
 one-TODO mistake (known or not), a lost marker and a syntax error lose exactly
@@ -50,6 +51,7 @@ COMBINED = ("t1_no_mass", "t2_no_mass", "t3_sign", "t4_swapped_cross", "t5_no_dt
 BATCH_FULL = tuple(n for n in original.FULL if n not in ("marker_variants", "layout"))
 BATCH_WRONG = tuple(sorted(n for n in original.WRONG if n not in COMBINED))
 ORIGINAL = (*BATCH_FULL, "unsolved", "hang_in_todo6", *(n for n in BATCH_WRONG if n != "mistakes_b"))
+HANDOUT = ROOT / "tests" / "data" / "original_handout" / "unsolved.py"  # the original batch's warm cache (--original-handout)
 
 
 def _grade(folder: Path, out: Path, *extra) -> subprocess.Popen:
@@ -89,7 +91,7 @@ def batches(tmp_path_factory):
     probe.unlink(missing_ok=True)
     start = time.monotonic()
     procs = {"main": _grade(main, main), "bad": _grade(bad, bad, "--timeout", str(TIMEOUT)),
-             "original": _grade(orig, orig, "--timeout", str(ORIGINAL_TIMEOUT)),
+             "original": _grade(orig, orig, "--timeout", str(ORIGINAL_TIMEOUT), "--original-handout", str(HANDOUT)),
              "selfcheck": subprocess.Popen([sys.executable, str(ROOT / "tests" / "grading_selfcheck_worker.py"),
                                             str(base / "selfcheck.json"), *map(str, checked.values())],
                                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)}

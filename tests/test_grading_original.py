@@ -206,3 +206,33 @@ def test_harness_kernels_parse_and_know_when_they_cannot_vary_dt():
     q = np.array([0.3, -0.5, 0.1, 0.8]) / np.linalg.norm([0.3, -0.5, 0.1, 0.8])
     assert np.allclose(quaternion_to_matrix_np(harness.matrix_to_quaternion(quaternion_to_matrix_np(q))),
                        quaternion_to_matrix_np(q))
+
+
+def test_the_handouts_warm_up_versions_hold_the_reference_in_every_todo_in_both_orders():
+    from rigid.grading.original.warm import FORMS, solved_versions
+
+    unsolved = (ROOT / "tests" / "data" / "original_handout" / "unsolved.py").read_text()
+    versions = solved_versions(unsolved)
+    assert list(versions) == list(FORMS) and versions["position-first"] == FileModel(unsolved).reference_text
+    models = [FileModel(v) for v in versions.values()]
+    assert all(detect(v) == "original" and not m.problems for v, m in zip(versions.values(), models))
+    for k in range(1, 8):  # only TODO 5's order differs, and no TODO is left unsolved
+        same = code_of(models[0], k) == code_of(models[1], k)
+        assert same == (k != 5), k
+        assert code_of(models[0], k) != code_of(FileModel(unsolved), k), k
+
+
+@pytest.mark.parametrize("content, words", [
+    (None, "cannot read it"),
+    ("project", "not a file in the course's original handout format"),
+])
+def test_a_wrong_original_handout_is_refused_in_one_line(tmp_path, content, words):
+    from rigid.errors import UserError
+    from rigid.grading.original.warm import prepare_original
+
+    path = tmp_path / "handout.py"
+    if content == "project":
+        path.write_text(SOLUTION.read_text())
+    with pytest.raises(UserError) as err:
+        prepare_original(None, path)
+    assert words in str(err.value) and "\n" not in str(err.value) and str(path) in str(err.value)

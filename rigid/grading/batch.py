@@ -45,14 +45,18 @@ def version_stamp(reference: Path) -> str:
     return h.hexdigest()[:16]
 
 
-def prepare(reference: Path, limits: Limits, cache_root: Path, log=print) -> Settings:
-    """Settings for grading against ``reference``; computes and self-checks it if not done yet.
+def prepare(reference: Path, limits: Limits, cache_root: Path, log=print, original_handout: Path | None = None) -> Settings:
+    """Settings for grading against ``reference``; computes and self-checks it if not done yet,
+    and with ``original_handout`` (the course's handout file) the original format's warm cache
+    (original/warm.py).
 
     A lock file makes a second batch started meanwhile wait for the first one's preparation.
     """
+    from .original.warm import prepare_original
+
     folder = cache_root / version_stamp(reference)
     settings = Settings(reference, folder / "expected.npz", folder / "taichi", limits=limits)
-    if (folder / "ready").exists():
+    if (folder / "ready").exists() and original_handout is None:
         return settings
     try:
         cache_root.mkdir(parents=True, exist_ok=True)
@@ -65,6 +69,8 @@ def prepare(reference: Path, limits: Limits, cache_root: Path, log=print) -> Set
             log(f"preparing the reference answers from {reference} (once per grader version) ...")
             _prepare(reference, limits, cache_root, folder)
             _forget_old(cache_root, keep=KEEP_VERSIONS)
+        if original_handout is not None:
+            settings = prepare_original(settings, original_handout, log)
     return settings
 
 

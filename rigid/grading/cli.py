@@ -51,6 +51,10 @@ def build_parser() -> argparse.ArgumentParser:
                         "repository's rigid_body_dynamic.py), original (the course's module-level script with "
                         "global fields and kernels initial() and substep()), or auto: detect it per submission "
                         "(default)")
+    p.add_argument("--original-handout", metavar="FILE",
+                   help="the course's handout as given to students (original format): its kernels, with the "
+                        "reference lines in its TODOs, are compiled once and each original-format submission "
+                        "starts from them (~40 %% less time a file that keeps the given code)")
     p.add_argument("--cache-dir", metavar="DIR", help="where the reference's answers and compiled kernels "
                                                       "are kept (default ~/.cache/rigid-body-taichi/grader)")
     return p
@@ -107,7 +111,8 @@ def _run(args) -> int:
         print(note, file=sys.stderr)
     limits = Limits(stage_seconds=args.timeout, memory_mb=args.memory_mb)
     cache_root = Path(args.cache_dir) if args.cache_dir else default_cache_root()
-    settings = prepare(reference, limits, cache_root, log=lambda m: print(m, file=sys.stderr))
+    handout = Path(args.original_handout) if args.original_handout else None
+    settings = prepare(reference, limits, cache_root, log=lambda m: print(m, file=sys.stderr), original_handout=handout)
     settings.points = points
     settings.format = args.format
     print(report.points_line(points))

@@ -35,6 +35,7 @@ class Settings:
     points: dict = field(default_factory=lambda: {k: t.points for k, t in TODOS.items()})
     limits: Limits = field(default_factory=Limits)
     format: str = "auto"  # "project", "original" (the course's handout), or "auto": detect per submission
+    warm_cache_original: Path | None = None  # the original format's, from the course's handout (original/warm.py)
 
 
 def grade_submission(name: str, source: bytes | None, settings: Settings, problem: str = "",
@@ -63,8 +64,10 @@ def grade_submission(name: str, source: bytes | None, settings: Settings, proble
                 (box / relative).parent.mkdir(parents=True, exist_ok=True)
                 (box / relative).write_bytes(data)
             extra = ["--format", "original", f"--renames={json.dumps(renames)}"]
-        if settings.warm_cache and settings.warm_cache.is_dir():
-            shutil.copytree(settings.warm_cache, box / ".taichi-cache")
+        warm = settings.warm_cache_original if fmt == "original" and settings.warm_cache_original else \
+            settings.warm_cache
+        if warm and warm.is_dir():
+            shutil.copytree(warm, box / ".taichi-cache")
         per_todo = False
         for attempt in range(MAX_CHILDREN):
             remaining = [k for k, v in todos.items() if v is None]
@@ -72,6 +75,7 @@ def grade_submission(name: str, source: bytes | None, settings: Settings, proble
                 break
             args = ["--submission", box / "rigid_body_dynamic.py", "--reference", settings.reference,
                     "--expected", settings.expected, "--todos", ",".join(map(str, remaining)), *extra]
+            args += ["--write-cache"] if cache_out is not None else []  # only a trusted run's cache is kept
             run = run_child(args + (["--per-todo-trajectories"] if per_todo else []), box,
                             Path(tmp) / f"events{attempt}.jsonl", settings.limits)
             seconds += run.seconds

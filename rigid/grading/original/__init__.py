@@ -18,6 +18,7 @@ marker), and runs a GGUI ``while window.running:`` loop at module level.
 - attribution.py  per-TODO trajectory runs (joint, then halves) with the file's and perturbed parameters
 - child.py      the sandboxed child's work for this format (same events as ../child.py)
 - meshes.py     which mesh files a submission reads, and what the sandbox gets in their place
+- warm.py       the TA's handout solved with the reference lines, graded once: its kernels warm every child
 
 Runs inside the grading child, like ../checks.py. May import what rigid.grading may import
 (the base modules, ``bodies``, ``engine``, ``run``) and the rest of ``rigid.grading``.
