@@ -45,7 +45,8 @@ def version_stamp(reference: Path) -> str:
     return h.hexdigest()[:16]
 
 
-def prepare(reference: Path, limits: Limits, cache_root: Path, log=print, original_handout: Path | None = None) -> Settings:
+def prepare(reference: Path, limits: Limits, cache_root: Path, log=print,
+            original_handout: Path | None = None) -> Settings:
     """Settings for grading against ``reference``; computes and self-checks it if not done yet,
     and with ``original_handout`` (the course's handout file) the original format's warm cache
     (original/warm.py).
