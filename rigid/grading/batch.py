@@ -23,6 +23,7 @@ from pathlib import Path
 from ..config import REPO_ROOT
 from ..errors import UserError
 from .grade_submission import Settings, grade_submission, stop_reason
+from .original.warm import prepare_original
 from .sandbox import Limits, run_child
 
 KEEP_VERSIONS = 4
@@ -53,8 +54,6 @@ def prepare(reference: Path, limits: Limits, cache_root: Path, log=print,
 
     A lock file makes a second batch started meanwhile wait for the first one's preparation.
     """
-    from .original.warm import prepare_original
-
     folder = cache_root / version_stamp(reference)
     settings = Settings(reference, folder / "expected.npz", folder / "taichi", limits=limits)
     if (folder / "ready").exists() and original_handout is None:

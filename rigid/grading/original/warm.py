@@ -28,23 +28,21 @@ from dataclasses import replace
 from pathlib import Path
 
 from ...errors import UserError
+from ..grade_submission import grade_submission
 from .detect import detect
 from .regions import RegionError
 from .variants import FileModel
 
-FORMS = ("position-first", "velocity-first")
 WARM_FORM = "velocity-first"  # the order of TODO 5 in the version graded (see above)
 
 
 def solved_version(handout_text: str, form: str = WARM_FORM) -> str:
-    """The handout with the reference lines in every TODO, TODO 5 in order ``form`` (FORMS)."""
+    """The handout with the reference lines in every TODO, TODO 5 in order ``form`` (expected.FORMS)."""
     return FileModel(handout_text).build(form=form).text
 
 
 def prepare_original(settings, handout: Path, log=print):
     """``settings`` (batch.prepare's) with the original format's warm cache from ``handout``."""
-    from ..grade_submission import grade_submission
-
     try:
         text = Path(handout).read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as err:
