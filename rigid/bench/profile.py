@@ -18,7 +18,7 @@ import time
 def _kernels(units):
     import taichi as ti
 
-    from ..engine import grid, neighbours, pair_stages, schemes, stages
+    from ..engine import grid, neighbours, pair_once, pair_stages, schemes, stages
     from ..engine.arrays import ModelArgs, ScratchArgs, StateArgs, WorldArgs
 
     M, S, W, C = ModelArgs(), StateArgs(), WorldArgs(), ScratchArgs()
@@ -55,9 +55,10 @@ def _kernels(units):
     @ti.kernel
     def pairs(model: M, state: S, world: W, scratch: C, reps: ti.i32):
         ti.loop_config(serialize=True)
-        for _ in range(reps):
-            for t in range(neighbours.num_active(scratch)):
-                pair_stages.pair_stage(model, state, world, scratch, scratch.active[t], False)
+        for _ in range(reps):  # as the serial schedule runs it (sleeping compiled in)
+            if pair_once.any_asleep(state):
+                pair_once.mark_woken(model, state, world, scratch)
+            pair_once.sweep(model, state, world, scratch, True)
 
     @ti.kernel
     def blocks(model: M, state: S, world: W, scratch: C, reps: ti.i32):

@@ -5,7 +5,8 @@
   model.py      static data (Model); state.py: per-step State and runtime Params (+ the box's planes)
   blocks.py     particles in compact blocks (the unit of work and of summation)
   scratch.py    the arrays a substep rewrites (forces, grid, lists, RK4), sized for a scene
-  stages.py     the stages of a substep; pair_stages.py: those only bodies in contact need
+  stages.py     the stages of a substep; pair_stages.py: those only bodies in contact need;
+                pair_once.py: on one thread, each pair's force computed once for both sides
   contact.py    the one contact law; grid.py, scan.py, neighbours.py: the grid and neighbour lists
   sleep.py      bodies at rest stop being integrated until something touches them
   grab.py       the mouse's spring on one particle (runtime values in WorldArgs.values)

@@ -25,9 +25,10 @@ Why this law:
 A pair's force acts at the contact point c, in the middle of the overlap; the engine applies
 it at the particle centre through TODO 3 and 4 and adds the couple (c − pᵢ) × fᵢ that moves it
 to c, so the two equal and opposite forces change neither the total momentum nor the total
-angular momentum. Every pair expression is antisymmetric in (i, j) operation by operation (c
-from a symmetric formula; a − b = −(b − a) in IEEE arithmetic), so the force j gets when it
-visits i is exactly −fᵢ, bit for bit.
+angular momentum. The engine evaluates each pair from its lower particle slot whichever side
+asks (rigid.engine.pair_stages.pair_between), so the force j gets is exactly −fᵢ: the law
+written from each side is antisymmetric on paper, but LLVM contracts its products into FMAs
+differently for the two orders, and about half the pairs came out a few ulps apart.
 """
 import taichi as ti
 
@@ -99,8 +100,18 @@ def pair_force(p_i, p_j, r_a, r_b, x_a, v_a, w_a, x_b, v_b, w_b, k, kd, mu):
 @ti.func
 def pair_force_damped(p_i, p_j, r_a, r_b, x_a, v_a, w_a, x_b, v_b, w_b, k, kd, kt, mu):
     """``pair_force`` with the normal damper kd and the sticking friction's kt apart (materials)."""
+    force, c, energy = pair_contact(p_i, p_j, r_a, r_b, x_a, v_a, w_a, x_b, v_b, w_b, k, kd, kt, mu)
+    # Apart: zero force and c = 0, so a zero couple (its sign bits add nothing to a sum).
+    return force, (c - p_i).cross(force), energy
+
+
+@ti.func
+def pair_contact(p_i, p_j, r_a, r_b, x_a, v_a, w_a, x_b, v_b, w_b, k, kd, kt, mu):
+    """Particle j (body b) on particle i (body a): (force on i, the contact point c, half the
+    pair's ½ k δ²); zeros when the spheres are apart. One evaluation serves both sides: j's
+    force is −force, at the same c (rigid.engine.pair_once)."""
     force = ti.Vector.zero(float, 3)
-    couple = ti.Vector.zero(float, 3)
+    c = ti.Vector.zero(float, 3)
     energy = 0.0
     d = p_j - p_i
     dist2 = d.dot(d)
@@ -115,9 +126,8 @@ def pair_force_damped(p_i, p_j, r_a, r_b, x_a, v_a, w_a, x_b, v_b, w_b, k, kd, k
         fn = ti.max(k * overlap - kd * vn, 0.0)
         # The relative velocity is j's relative to i: friction on i acts along +v_t.
         force = -fn * n - friction(fn, v_rel - vn * n, mu, kt)
-        couple = (c - p_i).cross(force)
         energy = 0.25 * k * overlap * overlap
-    return force, couple, energy
+    return force, c, energy
 
 
 @ti.func

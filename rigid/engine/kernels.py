@@ -14,7 +14,7 @@ Two schedules run the same stages (stages.py), chosen by schedule.py:
 
 import taichi as ti
 
-from . import frontend, grid, material_stages, neighbours, pair_stages, schemes, sleep, stages
+from . import frontend, grid, material_stages, neighbours, pair_once, pair_stages, schemes, sleep, stages
 from .arrays import ModelArgs, RowArgs, ScratchArgs, StateArgs, SurfaceArgs, WorldArgs
 from .matvec import body_offset, matvec
 from .state import DT
@@ -100,22 +100,17 @@ class EngineKernels:
                     material_stages.count_plane_block(model, state, world, scratch, k)
                 for b in range(state.x.shape[0]):
                     material_stages.sum_counts(model, state, scratch, b)
-            if ti.static(pairs and not sleeping):
+            if ti.static(pairs and materials):
                 for t in range(neighbours.num_active(scratch)):  # each writes its own slot: any order
-                    i = scratch.active[t]
-                    if ti.static(materials):
-                        material_stages.pair_stage(model, state, world, scratch, i)
-                    else:
-                        pair_stages.pair_stage(model, state, world, scratch, i, False)
-            if ti.static(sleeping):  # two passes: the awake bodies (a moving one marks the sleepers it
-                # touches), then the sleepers woken just now. On one thread, a loop over the passes
-                # (the pair stage compiled once); in parallel each pass must be a top-level loop.
-                if ti.static(parallel):
-                    for wave in ti.static(range(2)):
-                        pair_stages.pair_wave(model, state, world, scratch, wave)
-                else:
-                    for wave in range(2):
-                        pair_stages.pair_wave(model, state, world, scratch, wave)
+                    material_stages.pair_stage(model, state, world, scratch, scratch.active[t])
+            elif ti.static(pairs):
+                if ti.static(parallel):  # each particle's full list (its own slot: any order)
+                    pair_stages.visit_all(model, state, world, scratch, sleeping)
+                else:  # on one thread, each pair once (pair_once.py)
+                    if ti.static(sleeping):
+                        if pair_once.any_asleep(state):
+                            pair_once.mark_woken(model, state, world, scratch)
+                    pair_once.sweep(model, state, world, scratch, sleeping)
             for k in range(model.block_start.shape[0]):
                 if ti.static(materials):
                     material_stages.block_forces(u, model, state, world, scratch, k, pairs,

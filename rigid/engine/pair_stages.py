@@ -1,12 +1,13 @@
 """The stages of a substep that exist only when bodies collide (stages.py lists them all):
 1a ``note_motion`` (must the neighbour lists be rebuilt?), 1b ``place_for_pairs`` (the
 particles the pair stage reads), 3a ``pair_stage`` (each particle's force and couple from the
-other bodies' particles in its neighbour list, neighbours.py; the law is contact.py's), and
-``pair_forces``, which the frame's contact energy also sums."""
+other bodies' particles in its neighbour list, neighbours.py; the law is contact.py's, each
+pair evaluated by ``pair_between``), and ``pair_forces``, which the frame's contact energy
+also sums. On one thread with no body asleep, pair_once.py's sweep replaces 3a."""
 import taichi as ti
 
 from . import grid, neighbours, sleep, stages
-from .contact import pair_force
+from .contact import pair_contact
 
 
 @ti.func
@@ -38,9 +39,13 @@ def place_for_pairs(model: ti.template(), state: ti.template(), scratch: ti.temp
 
 
 @ti.func
-def _pair_with(model: ti.template(), state: ti.template(), p, r_a, x_a, v_a, w_a, k, kd, mu, j):
-    """pair_force of slot j on the particle at p, its body's state loaded only when the spheres
-    overlap (most candidates do not: then exactly the zeros pair_force would give)."""
+def pair_between(model: ti.template(), state: ti.template(), i, p, r_a, x_a, v_a, w_a, k, kd, mu, j):
+    """(force fᵢ on slot i (at p) from slot j, the contact point c, half the pair's energy), zeros when
+    the spheres are apart (most candidates: then body b's state is not loaded). The law is
+    evaluated from the lower slot's side whichever side asks, in one call: so the force j gets
+    from i is exactly −fᵢ (the same operations on the same numbers; the law written from each
+    side rounds differently under LLVM's contractions: measured, 0 of 13,353 touching pairs
+    of a dense pile differ, against about half before)."""
     f = ti.Vector.zero(float, 3)
     c = ti.Vector.zero(float, 3)
     e = 0.0
@@ -49,20 +54,30 @@ def _pair_with(model: ti.template(), state: ti.template(), p, r_a, x_a, v_a, w_a
     d = p_j - p
     reach = r_a + r_b
     if d.dot(d) < reach * reach:
-        f, c, e = pair_force(p, p_j, r_a, r_b, x_a, v_a, w_a, state.x[b], state.v[b], state.omega[b], k, kd, mu)
+        x_b, v_b, w_b = state.x[b], state.v[b], state.omega[b]
+        lo_p, lo_r, lo_x, lo_v, lo_w = p, r_a, x_a, v_a, w_a
+        hi_p, hi_r, hi_x, hi_v, hi_w = p_j, r_b, x_b, v_b, w_b
+        sign = 1.0
+        if j < i:
+            lo_p, lo_r, lo_x, lo_v, lo_w = p_j, r_b, x_b, v_b, w_b
+            hi_p, hi_r, hi_x, hi_v, hi_w = p, r_a, x_a, v_a, w_a
+            sign = -1.0
+        f_lo, c, e = pair_contact(lo_p, hi_p, lo_r, hi_r, lo_x, lo_v, lo_w, hi_x, hi_v, hi_w, k, kd, kd, mu)
+        f = sign * f_lo
     return f, c, e
 
 
 @ti.func
-def _visit(model: ti.template(), state: ti.template(), p, r_a, x_a, v_a, w_a, k, kd, mu, j, waker,
+def _visit(model: ti.template(), state: ti.template(), i, p, r_a, x_a, v_a, w_a, k, kd, mu, j, waker,
            wake: ti.template()):
     """One candidate j of pair_forces (from the list or the grid walk): its pair force, and with
     ``wake``, a moving body (``waker``) marks the sleeping body of j it touches as woken."""
-    f, c, e = _pair_with(model, state, p, r_a, x_a, v_a, w_a, k, kd, mu, j)
+    f, c, e = pair_between(model, state, i, p, r_a, x_a, v_a, w_a, k, kd, mu, j)
+    couple = (c - p).cross(f)  # apart: zero force, a zero couple
     if ti.static(wake):
         if waker and e > 0 and sleep.asleep(state, model.particle_body[j]):
             sleep.mark_woken(state, model.particle_body[j])
-    return f, c, e
+    return f, couple, e
 
 
 @ti.func
@@ -86,7 +101,7 @@ def pair_forces(model: ti.template(), state: ti.template(), world: ti.template()
     n = scratch.nbr_count[i]
     if n <= stride:
         for t in range(n):
-            fp, cp, ep = _visit(model, state, p, r_a, x_a, v_a, w_a, k, kd, mu, scratch.nbr_list[i * stride + t],
+            fp, cp, ep = _visit(model, state, i, p, r_a, x_a, v_a, w_a, k, kd, mu, scratch.nbr_list[i * stride + t],
                                 waker, wake)
             f += fp
             couple += cp
@@ -99,7 +114,7 @@ def pair_forces(model: ti.template(), state: ti.template(), world: ti.template()
                     lo, hi = grid.row_range(scratch, g[0], g[1] + dy, g[2] + dz, part)
                     for slot in range(lo, hi):
                         if scratch.sorted_body[slot] != a:
-                            fp, cp, ep = _visit(model, state, p, r_a, x_a, v_a, w_a, k, kd, mu,
+                            fp, cp, ep = _visit(model, state, i, p, r_a, x_a, v_a, w_a, k, kd, mu,
                                                 scratch.sorted_particle[slot], waker, wake)
                             f += fp
                             couple += cp
@@ -126,3 +141,16 @@ def pair_wave(model: ti.template(), state: ti.template(), world: ti.template(), 
         b = model.particle_body[i]
         if sleep.asleep(state, b) == (wave == 1) and (wave == 0 or not sleep.resting(state, b)):
             pair_stage(model, state, world, scratch, i, True, 1 - wave)
+
+
+@ti.func
+def visit_all(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(),
+              sleeping: ti.template()):
+    """Stage 3a in parallel (at a kernel's top level): each active particle sums its whole list,
+    writing its own slot (any order); with ``sleeping``, in two waves, each a top-level loop."""
+    if ti.static(not sleeping):
+        for t in range(neighbours.num_active(scratch)):
+            pair_stage(model, state, world, scratch, scratch.active[t], False)
+    else:
+        for wave in ti.static(range(2)):
+            pair_wave(model, state, world, scratch, wave)
