@@ -30,19 +30,47 @@ from . import grid
 
 NEIGHBOURS_PER_PARTICLE = 16  # list slots per particle; beyond, the particle walks the grid (exact)
 SKIN_FRACTION = 0.5  # skin = this × the largest particle diameter
+ROTATION_DEFECT = 1e-3  # _turn_norm: the orthogonality defect up to which R is taken for a rotation
 ALLOWED_MOTION = 0.98  # × the skin: two particles' relative motion before a rebuild (less 2 % for round-off)
 
 
 @ti.func
+def _defect(M):
+    """‖MᵀM − I‖_F: bounds the distance of M from the nearest orthogonal matrix (for singular
+    values σ, √Σ(σ − 1)² <= √Σ(σ² − 1)²)."""
+    total = 0.0
+    for r, c in ti.static(ti.ndrange(3, 3)):
+        dot = M[0, r] * M[0, c] + M[1, r] * M[1, c] + M[2, r] * M[2, c]
+        total += (dot - (1.0 if ti.static(r == c) else 0.0)) ** 2
+    return ti.sqrt(total)
+
+
+@ti.func
+def _turn_norm(R, R0):
+    """A bound on ‖R − R0‖₂, the most a unit offset moved by the change of orientation.
+    ‖R − R0‖_F holds for any matrices. For two rotations it is √2 times too large (R R0ᵀ − I
+    has singular values 2 sin(θ/2) twice and 0), so where R and R0 are rotations up to δ, δ₀
+    (_defect, and det > 0: the nearest orthogonal matrices are proper) the bound is
+    (‖R − R0‖_F + δ + δ₀)/√2 + δ + δ₀ (each off its rotation by at most its δ in Frobenius)."""
+    frob2 = 0.0
+    for r, c in ti.static(ti.ndrange(3, 3)):
+        frob2 += (R[r, c] - R0[r, c]) ** 2
+    frob = ti.sqrt(frob2)
+    off = _defect(R) + _defect(R0)
+    bound = frob
+    if off < ROTATION_DEFECT and R.determinant() > 0 and R0.determinant() > 0:
+        bound = ti.min(frob, (frob + off) * (0.5 ** 0.5) + off)
+    return bound
+
+
+@ti.func
 def _body_shift(scratch: ti.template(), state: ti.template(), b):
-    """(Δx of body b since the last build, ‖ΔR‖_F ρ_b)."""
+    """(Δx of body b since the last build, the bound _turn_norm(R, R_build) ρ_b)."""
     pose = scratch.build_pose[b]
     x, R = state.x[b], state.R[b]
     dx = ti.Vector([x[0] - pose[0], x[1] - pose[1], x[2] - pose[2]])
-    frob2 = 0.0
-    for r, c in ti.static(ti.ndrange(3, 3)):
-        frob2 += (R[r, c] - pose[3 + 3 * r + c]) ** 2
-    return dx, ti.sqrt(frob2) * pose[12]
+    R0 = ti.Matrix([[pose[3], pose[4], pose[5]], [pose[6], pose[7], pose[8]], [pose[9], pose[10], pose[11]]])
+    return dx, _turn_norm(R, R0) * pose[12]
 
 
 @ti.func
@@ -50,7 +78,8 @@ def note_motion(scratch: ti.template(), state: ti.template()):
     """Ask for a rebuild if two particles may have closed by more than the skin since the last
     build (run on one thread: a fixed-order sum). A particle of body b moved by
     Δx_b + ΔR_b r0, so for any common vector c, |Δpᵢ − Δpⱼ| <= e_a + e_b with
-    e_b = |Δx_b − c| + ‖ΔR_b‖_F ρ_b (ρ_b the body's largest |r0|; for any matrix R): the lists
+    e_b = |Δx_b − c| + ‖ΔR_b‖₂ ρ_b (ρ_b the body's largest |r0|; ‖ΔR_b‖₂ bounded by _turn_norm,
+    for any matrix R, √2 tighter for rotations): the lists
     hold while the two largest e sum to at most the skin. Distances do not change when every
     body moves alike, so c is the bodies' mean Δx: a pile falling as one rebuilds nothing. A
     NaN counts as moved."""
