@@ -169,3 +169,14 @@ def row_range(s: ti.template(), ix, iy, iz, part):
         c = cell_index(s, ix - 1 + part, iy, iz)
         lo, hi = s.cell_start[c], s.cell_start[c + 1]
     return lo, hi
+
+
+ROWS_AROUND = 27  # around_range: 3 × 3 rows (z outer, then y) × their up to 3 ranges
+
+
+@ti.func
+def around_range(s: ti.template(), g, r):
+    """The r-th of the ROWS_AROUND ranges of sorted_particle that hold the 27 cells around cell g
+    (rows dz, dy = -1..1, z outer, each row's row_range parts 0..2): one loop over r walks them
+    in that fixed order."""
+    return row_range(s, g[0], g[1] + (r // 3) % 3 - 1, g[2] + r // 9 - 1, r % 3)

@@ -111,17 +111,15 @@ def pair_stage(model: ti.template(), state: ti.template(), world: ti.template(),
                 touching += hit
         else:  # the same candidates, in the same order, from the grid of the last build
             g = grid.cell_coords(scratch, scratch.build_x[i])
-            for dz in range(-1, 2):
-                for dy in range(-1, 2):
-                    for part in range(3):
-                        lo, hi = grid.row_range(scratch, g[0], g[1] + dy, g[2] + dz, part)
-                        for slot in range(lo, hi):
-                            if scratch.sorted_body[slot] != a:
-                                fp, cp, hit = _material_pair(model, state, world, scratch, a, p, r_a, x_a, v_a,
-                                                             w_a, scratch.sorted_particle[slot])
-                                f += fp
-                                couple += cp
-                                touching += hit
+            for r in range(grid.ROWS_AROUND):
+                lo, hi = grid.around_range(scratch, g, r)
+                for slot in range(lo, hi):
+                    if scratch.sorted_body[slot] != a:
+                        fp, cp, hit = _material_pair(model, state, world, scratch, a, p, r_a, x_a, v_a,
+                                                     w_a, scratch.sorted_particle[slot])
+                        f += fp
+                        couple += cp
+                        touching += hit
     scratch.particle_f[i] = f
     scratch.particle_couple[i] = couple
     scratch.contacts[i] = touching

@@ -70,23 +70,23 @@ def mark_woken(model: ti.template(), state: ti.template(), world: ti.template(),
                             sleep.mark_woken(state, b)
                 else:
                     g = grid.cell_coords(scratch, scratch.build_x[i])
-                    for dz in range(-1, 2):
-                        for dy in range(-1, 2):
-                            for part in range(3):
-                                lo, hi = grid.row_range(scratch, g[0], g[1] + dy, g[2] + dz, part)
-                                for slot in range(lo, hi):
-                                    b = scratch.sorted_body[slot]
-                                    if b != a and sleep.asleep(state, b):
-                                        if _overlap(state, model, p, r_a, scratch.sorted_particle[slot]):
-                                            sleep.mark_woken(state, b)
+                    for r in range(grid.ROWS_AROUND):
+                        lo, hi = grid.around_range(scratch, g, r)
+                        for slot in range(lo, hi):
+                            b = scratch.sorted_body[slot]
+                            if b != a and sleep.asleep(state, b):
+                                if _overlap(state, model, p, r_a, scratch.sorted_particle[slot]):
+                                    sleep.mark_woken(state, b)
 
 
 @ti.func
-def _wanted(model: ti.template(), state: ti.template(), a, j, sleeping: ti.template()):
-    """Whether the pair of a particle of body a with slot j is evaluated: not two resting sleepers."""
+def _wanted(model: ti.template(), state: ti.template(), a_rests, j, sleeping: ti.template()):
+    """Whether a pair with slot j is evaluated when the other side's body rests (``a_rests``,
+    sleep.resting, read once a particle): not two resting sleepers (j's body read only then)."""
     wanted = True
     if ti.static(sleeping):
-        wanted = not (sleep.resting(state, a) and sleep.resting(state, model.particle_body[j]))
+        if a_rests:
+            wanted = not sleep.resting(state, model.particle_body[j])
     return wanted
 
 
@@ -121,6 +121,9 @@ def sweep(model: ti.template(), state: ti.template(), world: ti.template(), scra
         a = model.particle_body[i]
         p, r_a = state.particle_x[i], model.particle_radius[a]
         x_a, v_a, w_a = state.x[a], state.v[a], state.omega[a]
+        a_rests = False
+        if ti.static(sleeping):
+            a_rests = sleep.resting(state, a)
         f = scratch.particle_f[i]  # the pairs with lower slots, given in their turns
         couple = scratch.particle_couple[i]
         n = scratch.nbr_count[i]
@@ -128,7 +131,7 @@ def sweep(model: ti.template(), state: ti.template(), world: ti.template(), scra
             base = i * stride
             for s in range(n):
                 j = scratch.nbr_list[base + s]
-                if j > i and _wanted(model, state, a, j, sleeping):
+                if j > i and _wanted(model, state, a_rests, j, sleeping):
                     fp, c, _e = pair_between(model, state, i, p, r_a, x_a, v_a, w_a, k, kd, mu, j)
                     if _touching(fp):
                         f += fp
@@ -139,18 +142,16 @@ def sweep(model: ti.template(), state: ti.template(), world: ti.template(), scra
             f = zero
             couple = zero
             g = grid.cell_coords(scratch, scratch.build_x[i])
-            for dz in range(-1, 2):
-                for dy in range(-1, 2):
-                    for part in range(3):
-                        lo, hi = grid.row_range(scratch, g[0], g[1] + dy, g[2] + dz, part)
-                        for slot in range(lo, hi):
-                            j = scratch.sorted_particle[slot]
-                            if scratch.sorted_body[slot] != a and _wanted(model, state, a, j, sleeping):
-                                fp, c, _e = pair_between(model, state, i, p, r_a, x_a, v_a, w_a, k, kd, mu, j)
-                                if _touching(fp):
-                                    f += fp
-                                    couple += (c - p).cross(fp)
-                                    if j > i and scratch.nbr_count[j] <= stride:
-                                        _give(state, scratch, j, fp, c)
+            for r in range(grid.ROWS_AROUND):
+                lo, hi = grid.around_range(scratch, g, r)
+                for slot in range(lo, hi):
+                    j = scratch.sorted_particle[slot]
+                    if scratch.sorted_body[slot] != a and _wanted(model, state, a_rests, j, sleeping):
+                        fp, c, _e = pair_between(model, state, i, p, r_a, x_a, v_a, w_a, k, kd, mu, j)
+                        if _touching(fp):
+                            f += fp
+                            couple += (c - p).cross(fp)
+                            if j > i and scratch.nbr_count[j] <= stride:
+                                _give(state, scratch, j, fp, c)
         scratch.particle_f[i] = f
         scratch.particle_couple[i] = couple

@@ -108,17 +108,15 @@ def pair_forces(model: ti.template(), state: ti.template(), world: ti.template()
             energy += ep
     else:  # the same candidates, in the same order, from the grid of the last build
         g = grid.cell_coords(scratch, scratch.build_x[i])
-        for dz in range(-1, 2):
-            for dy in range(-1, 2):
-                for part in range(3):
-                    lo, hi = grid.row_range(scratch, g[0], g[1] + dy, g[2] + dz, part)
-                    for slot in range(lo, hi):
-                        if scratch.sorted_body[slot] != a:
-                            fp, cp, ep = _visit(model, state, i, p, r_a, x_a, v_a, w_a, k, kd, mu,
-                                                scratch.sorted_particle[slot], waker, wake)
-                            f += fp
-                            couple += cp
-                            energy += ep
+        for r in range(grid.ROWS_AROUND):
+            lo, hi = grid.around_range(scratch, g, r)
+            for slot in range(lo, hi):
+                if scratch.sorted_body[slot] != a:
+                    fp, cp, ep = _visit(model, state, i, p, r_a, x_a, v_a, w_a, k, kd, mu,
+                                        scratch.sorted_particle[slot], waker, wake)
+                    f += fp
+                    couple += cp
+                    energy += ep
     return f, couple, energy
 
 
