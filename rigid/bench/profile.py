@@ -29,7 +29,7 @@ def _kernels(units):
         ti.loop_config(serialize=True)
         for _ in range(reps):
             pair_stages.note_motion(state, scratch, False)
-            pair_stages.place_for_pairs(model, state, scratch, False)
+            pair_stages.place_for_pairs(model, state, scratch, False, False)
 
     @ti.kernel
     def rebuild(model: M, state: S, scratch: C, reps: ti.i32):

@@ -67,7 +67,7 @@ class EngineKernels:
             rebuilt (grid and lists) if a particle may have moved half the skin since their last build."""
             if ti.static(pairs):
                 pair_stages.note_motion(state, scratch, parallel)
-                pair_stages.place_for_pairs(model, state, scratch, everything)
+                pair_stages.place_for_pairs(model, state, scratch, parallel, everything)
                 grid.clear_and_count(scratch, state, neighbours.rebuild_gate(scratch))
                 if ti.static(parallel):
                     grid.finish_parallel(scratch, model, state, neighbours.rebuild_gate(scratch))

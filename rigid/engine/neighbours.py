@@ -19,8 +19,10 @@ positions (a superset of its list: exact, in the walk's fixed order): no contact
 
 Scratch arrays (ScratchArgs): ``nbr_count`` [N] i32, ``nbr_list`` [N·K] i32 (particle slots),
 ``build_x`` [N] vec3 (world positions at the last build), ``active`` [N] i32 (the slots with a
-candidate, first nbr_flags[2] of them), ``nbr_flags`` [3] i32 (1: rebuild at the next placement;
-builds so far; active particles), ``grid_params`` [1], [2] = the skin, the relative motion allowed
+candidate, first nbr_flags[2] of them), ``nbr_flags`` [3 + B] i32 (1: rebuild at the next placement;
+builds so far; active particles; then per body b, [3 + b] = 1 when b sleeps and a body that does not
+rest has it in its lists: pair_once.py; one array, as the x64 backend takes at most 64 argument
+elements), ``grid_params`` [1], [2] = the skin, the relative motion allowed
 before a rebuild (the skin less 2 % for round-off); per body [B]: ``build_pose`` = its x (3) and R
 (9, row by row) at the last build and ρ_b, its largest |r0| (13 floats).
 """
@@ -200,6 +202,21 @@ def clear_flag(scratch: ti.template()):
     """After a build (or none): count it (nbr_flags[1], for benchmarks) and lower the flag."""
     scratch.nbr_flags[1] += scratch.nbr_flags[0]
     scratch.nbr_flags[0] = 0
+
+
+@ti.func
+def see_sleeper(scratch: ti.template(), b):
+    scratch.nbr_flags[3 + b] = 1
+
+
+@ti.func
+def unsee_sleeper(scratch: ti.template(), b):
+    scratch.nbr_flags[3 + b] = 0
+
+
+@ti.func
+def seen_sleeper(scratch: ti.template(), b):
+    return scratch.nbr_flags[3 + b] != 0
 
 
 @ti.func

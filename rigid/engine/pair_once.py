@@ -19,11 +19,15 @@ the touching ones above it that have lists; a particle below it computes their p
 own turn and keeps it. So each pair is still added once to each side.
 
 With sleeping bodies (sleep.py) a first pass lets each moving awake body mark the sleepers
-its particles touch (``mark_woken``: the full visit's first wave, without the forces); the
-sweep then skips the pairs of two resting sleepers only, and a resting sleeper's own sums
-are not read. So an awake particle gets the same terms, in the same order, whether bodies
-sleep or not, and a run with sleeping on keeps the bits of one with it off until a first
-body falls asleep, and after, wherever the sleepers are exactly at rest.
+its particles touch (``mark_woken``: the full visit's first wave, without the forces), and
+every body that does not rest note the sleepers in its lists; the sweep then skips the pairs
+of two resting sleepers only, and a resting sleeper's own sums are not read. It walks the
+bodies in slot order (the active list's order) and passes over a resting sleeper that no
+other body noted with one test: all its pairs are with resting sleepers. So a settled
+125-sphere pile costs 23 µs a substep, not 150 (its 5,250 particles were each visited), and
+an awake particle gets the same terms, in the same order, whether bodies sleep or not: a run
+with sleeping on keeps the bits of one with it off until a first body falls asleep, and
+after, wherever the sleepers are exactly at rest.
 """
 import taichi as ti
 
@@ -51,32 +55,60 @@ def _overlap(state: ti.template(), model: ti.template(), p, r_a, j):
 
 
 @ti.func
-def mark_woken(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template()):
-    """Before the sweep, with a body asleep: each awake moving body's particles mark the sleeping
-    bodies whose particles they overlap (from the list, or the grid walk if it overflowed)."""
+def _note_sleepers(model: ti.template(), state: ti.template(), scratch: ti.template(), i, a, waker):
+    """Particle i of body a, which does not rest: every sleeping body in its list (or, if the list
+    overflowed, in its grid walk) is seen (the sweep visits it), and a ``waker`` (a moving body)
+    marks those it overlaps as woken."""
+    p, r_a = state.particle_x[i], model.particle_radius[a]
     stride = neighbours.list_stride(scratch, state)
-    for t in range(neighbours.num_active(scratch)):
-        i = scratch.active[t]
-        a = model.particle_body[i]
-        if not sleep.asleep(state, a):
-            if sleep.moving(state, world, scratch, a):
-                p, r_a = state.particle_x[i], model.particle_radius[a]
-                n = scratch.nbr_count[i]
-                if n <= stride:
-                    for s in range(n):
-                        j = scratch.nbr_list[i * stride + s]
-                        b = model.particle_body[j]
-                        if sleep.asleep(state, b) and _overlap(state, model, p, r_a, j):
-                            sleep.mark_woken(state, b)
-                else:
-                    g = grid.cell_coords(scratch, scratch.build_x[i])
-                    for r in range(grid.ROWS_AROUND):
-                        lo, hi = grid.around_range(scratch, g, r)
-                        for slot in range(lo, hi):
-                            b = scratch.sorted_body[slot]
-                            if b != a and sleep.asleep(state, b):
-                                if _overlap(state, model, p, r_a, scratch.sorted_particle[slot]):
-                                    sleep.mark_woken(state, b)
+    n = scratch.nbr_count[i]
+    if n <= stride:
+        for s in range(n):
+            j = scratch.nbr_list[i * stride + s]
+            b = model.particle_body[j]
+            if sleep.asleep(state, b):
+                neighbours.see_sleeper(scratch, b)
+                if waker and _overlap(state, model, p, r_a, j):
+                    sleep.mark_woken(state, b)
+    else:
+        g = grid.cell_coords(scratch, scratch.build_x[i])
+        for r in range(grid.ROWS_AROUND):
+            lo, hi = grid.around_range(scratch, g, r)
+            for slot in range(lo, hi):
+                b = scratch.sorted_body[slot]
+                if b != a and sleep.asleep(state, b):
+                    neighbours.see_sleeper(scratch, b)
+                    if waker and _overlap(state, model, p, r_a, scratch.sorted_particle[slot]):
+                        sleep.mark_woken(state, b)
+
+
+@ti.func
+def mark_woken(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template()):
+    """Before the sweep, with a body asleep: each awake body's particles see the sleeping bodies in
+    their lists, and a moving one's mark those they overlap as woken; then the particles of the
+    bodies woken now see theirs. A resting sleeper that no body seen here touches has only
+    pairs with resting sleepers, all skipped: the sweep passes over it at the cost of one test,
+    so a settled pile costs next to nothing. Walks bodies, not the active list, for that reason."""
+    for b in range(state.x.shape[0]):
+        if not sleep.asleep(state, b):
+            waker = sleep.moving(state, world, scratch, b)
+            for i in range(model.body_start[b], model.body_start[b] + model.body_count[b]):
+                if scratch.nbr_count[i] > 0:
+                    _note_sleepers(model, state, scratch, i, b, waker)
+    for b in range(state.x.shape[0]):
+        if sleep.asleep(state, b) and not sleep.resting(state, b):  # woken just now
+            for i in range(model.body_start[b], model.body_start[b] + model.body_count[b]):
+                if scratch.nbr_count[i] > 0:
+                    _note_sleepers(model, state, scratch, i, b, False)
+
+
+@ti.func
+def _visited(state: ti.template(), scratch: ti.template(), b, sleeping: ti.template()):
+    """Whether the sweep visits body b: it does not rest, or a body that does not saw it."""
+    visit = True
+    if ti.static(sleeping):
+        visit = not sleep.resting(state, b) or neighbours.seen_sleeper(scratch, b)
+    return visit
 
 
 @ti.func
@@ -108,50 +140,71 @@ def _give(state: ti.template(), scratch: ti.template(), j, fi, c):
 def sweep(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(),
           sleeping: ti.template()):
     """Every active particle's pair force and couple, each pair evaluated once (on one thread;
-    with ``sleeping`` compiled in, after mark_woken if a body is asleep)."""
+    with ``sleeping`` compiled in, after mark_woken if a body is asleep: then body by body, the
+    bodies _visited, their active particles in slot order, which is the active list's order)."""
     zero = ti.Vector.zero(float, 3)
-    for t in range(neighbours.num_active(scratch)):
-        i = scratch.active[t]
-        scratch.particle_f[i] = zero
-        scratch.particle_couple[i] = zero
+    if ti.static(sleeping):
+        for b in range(state.x.shape[0]):
+            if _visited(state, scratch, b, sleeping):
+                for i in range(model.body_start[b], model.body_start[b] + model.body_count[b]):
+                    if scratch.nbr_count[i] > 0:
+                        scratch.particle_f[i] = zero
+                        scratch.particle_couple[i] = zero
+        for b in range(state.x.shape[0]):
+            if _visited(state, scratch, b, sleeping):
+                a_rests = sleep.resting(state, b)
+                neighbours.unsee_sleeper(scratch, b)  # all zero again after every sweep
+                for i in range(model.body_start[b], model.body_start[b] + model.body_count[b]):
+                    if scratch.nbr_count[i] > 0:
+                        _sweep_particle(model, state, world, scratch, i, b, a_rests, sleeping)
+    else:
+        for t in range(neighbours.num_active(scratch)):
+            i = scratch.active[t]
+            scratch.particle_f[i] = zero
+            scratch.particle_couple[i] = zero
+        for t in range(neighbours.num_active(scratch)):
+            i = scratch.active[t]
+            _sweep_particle(model, state, world, scratch, i, model.particle_body[i], False, sleeping)
+
+
+@ti.func
+def _sweep_particle(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(),
+                    i, a, a_rests, sleeping: ti.template()):
+    """The sweep's turn of active particle i (of body a, resting or not): its pairs with higher
+    slots evaluated and given, added to what the lower slots gave it."""
+    zero = ti.Vector.zero(float, 3)
     k, kd, mu = stages.contact_constants(world)
     stride = neighbours.list_stride(scratch, state)
-    for t in range(neighbours.num_active(scratch)):
-        i = scratch.active[t]
-        a = model.particle_body[i]
-        p, r_a = state.particle_x[i], model.particle_radius[a]
-        x_a, v_a, w_a = state.x[a], state.v[a], state.omega[a]
-        a_rests = False
-        if ti.static(sleeping):
-            a_rests = sleep.resting(state, a)
-        f = scratch.particle_f[i]  # the pairs with lower slots, given in their turns
-        couple = scratch.particle_couple[i]
-        n = scratch.nbr_count[i]
-        if n <= stride:
-            base = i * stride
-            for s in range(n):
-                j = scratch.nbr_list[base + s]
-                if j > i and _wanted(model, state, a_rests, j, sleeping):
+    p, r_a = state.particle_x[i], model.particle_radius[a]
+    x_a, v_a, w_a = state.x[a], state.v[a], state.omega[a]
+    f = scratch.particle_f[i]  # the pairs with lower slots, given in their turns
+    couple = scratch.particle_couple[i]
+    n = scratch.nbr_count[i]
+    if n <= stride:
+        base = i * stride
+        for s in range(n):
+            j = scratch.nbr_list[base + s]
+            if j > i and _wanted(model, state, a_rests, j, sleeping):
+                fp, c, _e = pair_between(model, state, i, p, r_a, x_a, v_a, w_a, k, kd, mu, j)
+                if _touching(fp):
+                    f += fp
+                    couple += (c - p).cross(fp)
+                    if scratch.nbr_count[j] <= stride:  # else j's walk sums it itself
+                        _give(state, scratch, j, fp, c)
+    else:  # the grid walk of pair_stages.pair_forces: every pair of i, summed here
+        f = zero
+        couple = zero
+        g = grid.cell_coords(scratch, scratch.build_x[i])
+        for r in range(grid.ROWS_AROUND):
+            lo, hi = grid.around_range(scratch, g, r)
+            for slot in range(lo, hi):
+                j = scratch.sorted_particle[slot]
+                if scratch.sorted_body[slot] != a and _wanted(model, state, a_rests, j, sleeping):
                     fp, c, _e = pair_between(model, state, i, p, r_a, x_a, v_a, w_a, k, kd, mu, j)
                     if _touching(fp):
                         f += fp
                         couple += (c - p).cross(fp)
-                        if scratch.nbr_count[j] <= stride:  # else j's walk sums it itself
+                        if j > i and scratch.nbr_count[j] <= stride:
                             _give(state, scratch, j, fp, c)
-        else:  # the grid walk of pair_stages.pair_forces: every pair of i, summed here
-            f = zero
-            couple = zero
-            g = grid.cell_coords(scratch, scratch.build_x[i])
-            for r in range(grid.ROWS_AROUND):
-                lo, hi = grid.around_range(scratch, g, r)
-                for slot in range(lo, hi):
-                    j = scratch.sorted_particle[slot]
-                    if scratch.sorted_body[slot] != a and _wanted(model, state, a_rests, j, sleeping):
-                        fp, c, _e = pair_between(model, state, i, p, r_a, x_a, v_a, w_a, k, kd, mu, j)
-                        if _touching(fp):
-                            f += fp
-                            couple += (c - p).cross(fp)
-                            if j > i and scratch.nbr_count[j] <= stride:
-                                _give(state, scratch, j, fp, c)
-        scratch.particle_f[i] = f
-        scratch.particle_couple[i] = couple
+    scratch.particle_f[i] = f
+    scratch.particle_couple[i] = couple

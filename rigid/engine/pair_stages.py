@@ -3,7 +3,7 @@
 particles the pair stage reads), 3a ``pair_stage`` (each particle's force and couple from the
 other bodies' particles in its neighbour list, neighbours.py; the law is contact.py's, each
 pair evaluated by ``pair_between``), and ``pair_forces``, which the frame's contact energy
-also sums. On one thread with no body asleep, pair_once.py's sweep replaces 3a."""
+also sums. On one thread pair_once.py's sweep replaces 3a."""
 import taichi as ti
 
 from . import grid, neighbours, sleep, stages
@@ -23,19 +23,29 @@ def note_motion(state: ti.template(), scratch: ti.template(), parallel: ti.templ
 
 
 @ti.func
-def place_for_pairs(model: ti.template(), state: ti.template(), scratch: ti.template(), everything):
+def place_for_pairs(model: ti.template(), state: ti.template(), scratch: ti.template(), parallel: ti.template(),
+                    everything):
     """Stage 1b (bodies in contact): every particle placed if the lists are rebuilt now or
     ``everything`` (a frame's end; 0 or 1, may be a run-time value), else only the active ones
-    (the pair stage reads no other)."""
+    (the pair stage reads no other) of the bodies awake (a sleeper's particles stay where they
+    are): in parallel from the active list, on one thread body by body (a sleeper's skipped
+    at once, so a settled pile costs next to nothing)."""
     gate = neighbours.rebuild_gate(scratch)
     if everything:
         gate = 1
     for i in range(state.particle_x.shape[0] * gate):
         stages.place_particle(model, state, i)
-    for t in range(neighbours.num_active(scratch) * (1 - gate)):
-        i = scratch.active[t]
-        if not sleep.asleep(state, model.particle_body[i]):  # a sleeper's particles stay where they are
-            stages.place_particle(model, state, i)
+    if ti.static(parallel):
+        for t in range(neighbours.num_active(scratch) * (1 - gate)):
+            i = scratch.active[t]
+            if not sleep.asleep(state, model.particle_body[i]):
+                stages.place_particle(model, state, i)
+    else:
+        for b in range(state.x.shape[0] * (1 - gate)):
+            if not sleep.asleep(state, b):
+                for i in range(model.body_start[b], model.body_start[b] + model.body_count[b]):
+                    if scratch.nbr_count[i] > 0:
+                        stages.place_particle(model, state, i)
 
 
 @ti.func
