@@ -18,8 +18,12 @@
                 schedule.py: serial or parallel; launch.py: launches with their arguments set once
   rows.py       a row of state per frame, for the host; simulator.py: the facade
   units.py      the TODO units' contract; rotation.py, matvec.py: helpers; frontend.py: Taichi's
-                frontend formats each AST node's debug string once (compiles cheaper to repeat)
+                frontend made cheaper (quick decorators; each function's source and each AST
+                node's debug string read once), installed when the engine is imported
 
 May import the base modules (``rigid.config``, ``rigid.errors``) and ``rigid.bodies``; never
 ``run``, ``view``, ``science``, ``bench``, ``report``, ``grading`` or the CLI: no drawing, no files.
 """
+from . import frontend as _frontend
+
+_frontend.install()  # before the stages' modules decorate their functions (frontend.py)

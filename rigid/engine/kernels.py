@@ -14,7 +14,7 @@ Two schedules run the same stages (stages.py), chosen by schedule.py:
 
 import taichi as ti
 
-from . import frontend, grid, material_stages, neighbours, pair_once, pair_stages, schemes, sleep, stages
+from . import grid, material_stages, neighbours, pair_once, pair_stages, schemes, sleep, stages
 from .arrays import ModelArgs, RowArgs, ScratchArgs, StateArgs, SurfaceArgs, WorldArgs
 from .matvec import body_offset, matvec
 from .state import DT
@@ -22,7 +22,6 @@ from .rows import write_row
 
 _CACHE: dict = {}
 _COMPACT = [False]  # compact_block_loops()
-frontend.install()  # the frontend's debug strings formatted once per node (frontend.py)
 
 
 def compact_block_loops(on: bool = True) -> None:
