@@ -29,7 +29,7 @@ def _kernels(units):
         ti.loop_config(serialize=True)
         for _ in range(reps):
             pair_stages.note_motion(state, scratch, False)
-            pair_stages.place_for_pairs(model, state, scratch, False, False)
+            pair_stages.place_for_pairs(model, state, scratch, True, False)  # as the serial schedule with sleeping
 
     @ti.kernel
     def rebuild(model: M, state: S, scratch: C, reps: ti.i32):
@@ -44,6 +44,7 @@ def _kernels(units):
                 neighbours.build_list(model, state, scratch, i)
             for i in range(state.particle_x.shape[0]):
                 neighbours.finish_list(state, scratch, i)
+            neighbours.index_active_by_body(model, state, scratch)
 
     @ti.kernel
     def grid_only(model: M, state: S, scratch: C, reps: ti.i32):

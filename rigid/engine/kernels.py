@@ -64,9 +64,10 @@ class EngineKernels:
             """Stages 1-2: the particles placed (when bodies collide: the active ones, unless
             ``everything`` (0 or 1, may be a run-time value) or a rebuild), and the neighbour lists
             rebuilt (grid and lists) if a particle may have moved half the skin since their last build."""
+            by_body = ti.static(sleeping and not parallel)  # the one-thread stages walk bodies (pair_once.py)
             if ti.static(pairs):
                 pair_stages.note_motion(state, scratch, parallel)
-                pair_stages.place_for_pairs(model, state, scratch, parallel, everything)
+                pair_stages.place_for_pairs(model, state, scratch, by_body, everything)
                 grid.clear_and_count(scratch, state, neighbours.rebuild_gate(scratch))
                 if ti.static(parallel):
                     grid.finish_parallel(scratch, model, state, neighbours.rebuild_gate(scratch))
@@ -81,6 +82,9 @@ class EngineKernels:
                     neighbours.finish_list(state, scratch, i)
                 for b in range(state.x.shape[0] * neighbours.rebuild_gate(scratch)):
                     neighbours.keep_build_pose(scratch, state, b)
+                if ti.static(by_body):
+                    if neighbours.rebuild_gate(scratch):
+                        neighbours.index_active_by_body(model, state, scratch)
                 if ti.static(materials):  # a particle left out of the new lists has no pair contacts
                     for i in range(state.particle_x.shape[0] * neighbours.rebuild_gate(scratch)):
                         if scratch.nbr_count[i] == 0:

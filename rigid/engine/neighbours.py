@@ -21,8 +21,8 @@ Scratch arrays (ScratchArgs): ``nbr_count`` [N] i32, ``nbr_list`` [N·K] i32 (pa
 ``build_x`` [N] vec3 (world positions at the last build), ``active`` [N] i32 (the slots with a
 candidate, first nbr_flags[2] of them), ``nbr_flags`` [3 + B] i32 (1: rebuild at the next placement;
 builds so far; active particles; then per body b, [3 + b] = 1 when b sleeps and a body that does not
-rest has it in its lists: pair_once.py; one array, as the x64 backend takes at most 64 argument
-elements), ``grid_params`` [1], [2] = the skin, the relative motion allowed
+rest has it in its lists, and [3 + B + b] .. [3 + B + b + 1] its run of the active list, on one
+thread: pair_once.py; one array, as the x64 backend takes at most 64 argument elements), ``grid_params`` [1], [2] = the skin, the relative motion allowed
 before a rebuild (the skin less 2 % for round-off); per body [B]: ``build_pose`` = its x (3) and R
 (9, row by row) at the last build and ρ_b, its largest |r0| (13 floats).
 """
@@ -202,6 +202,29 @@ def clear_flag(scratch: ti.template()):
     """After a build (or none): count it (nbr_flags[1], for benchmarks) and lower the flag."""
     scratch.nbr_flags[1] += scratch.nbr_flags[0]
     scratch.nbr_flags[0] = 0
+
+
+@ti.func
+def index_active_by_body(model: ti.template(), state: ti.template(), scratch: ti.template()):
+    """After a build on one thread (the active list then ascends by slot, and a body's slots are
+    contiguous): where each body's run of the active list starts, so that the one-thread stages
+    walk bodies, passing over a sleeper at once, without testing every slot."""
+    B = state.x.shape[0]
+    n = num_active(scratch)
+    t = 0
+    for b in range(B):
+        scratch.nbr_flags[3 + B + b] = t
+        end = model.body_start[b] + model.body_count[b]
+        while t < n and scratch.active[t] < end:
+            t += 1
+    scratch.nbr_flags[3 + 2 * B] = n
+
+
+@ti.func
+def body_active_range(state: ti.template(), scratch: ti.template(), b):
+    """(first, end) of body b's run of the active list (index_active_by_body, one thread)."""
+    B = state.x.shape[0]
+    return scratch.nbr_flags[3 + B + b], scratch.nbr_flags[3 + B + b + 1]
 
 
 @ti.func

@@ -24,7 +24,7 @@ every body that does not rest note the sleepers in its lists; the sweep then ski
 of two resting sleepers only, and a resting sleeper's own sums are not read. It walks the
 bodies in slot order (the active list's order) and passes over a resting sleeper that no
 other body noted with one test: all its pairs are with resting sleepers. So a settled
-125-sphere pile costs 23 µs a substep, not 150 (its 5,250 particles were each visited), and
+125-sphere pile costs 24-29 µs a substep, not 150 (its 5,250 particles were each visited), and
 an awake particle gets the same terms, in the same order, whether bodies sleep or not: a run
 with sleeping on keeps the bits of one with it off until a first body falls asleep, and
 after, wherever the sleepers are exactly at rest.
@@ -88,18 +88,19 @@ def mark_woken(model: ti.template(), state: ti.template(), world: ti.template(),
     their lists, and a moving one's mark those they overlap as woken; then the particles of the
     bodies woken now see theirs. A resting sleeper that no body seen here touches has only
     pairs with resting sleepers, all skipped: the sweep passes over it at the cost of one test,
-    so a settled pile costs next to nothing. Walks bodies, not the active list, for that reason."""
+    so a settled pile costs next to nothing. Walks bodies (their runs of the active list,
+    neighbours.index_active_by_body), not the whole list, for that reason."""
     for b in range(state.x.shape[0]):
         if not sleep.asleep(state, b):
             waker = sleep.moving(state, world, scratch, b)
-            for i in range(model.body_start[b], model.body_start[b] + model.body_count[b]):
-                if scratch.nbr_count[i] > 0:
-                    _note_sleepers(model, state, scratch, i, b, waker)
+            first, end = neighbours.body_active_range(state, scratch, b)
+            for t in range(first, end):
+                _note_sleepers(model, state, scratch, scratch.active[t], b, waker)
     for b in range(state.x.shape[0]):
         if sleep.asleep(state, b) and not sleep.resting(state, b):  # woken just now
-            for i in range(model.body_start[b], model.body_start[b] + model.body_count[b]):
-                if scratch.nbr_count[i] > 0:
-                    _note_sleepers(model, state, scratch, i, b, False)
+            first, end = neighbours.body_active_range(state, scratch, b)
+            for t in range(first, end):
+                _note_sleepers(model, state, scratch, scratch.active[t], b, False)
 
 
 @ti.func
@@ -141,22 +142,24 @@ def sweep(model: ti.template(), state: ti.template(), world: ti.template(), scra
           sleeping: ti.template()):
     """Every active particle's pair force and couple, each pair evaluated once (on one thread;
     with ``sleeping`` compiled in, after mark_woken if a body is asleep: then body by body, the
-    bodies _visited, their active particles in slot order, which is the active list's order)."""
+    bodies _visited, over their runs of the active list, which keeps its order)."""
     zero = ti.Vector.zero(float, 3)
+    k, kd, mu = stages.contact_constants(world)  # read once: the loops' stores may alias them for LLVM
+    stride = neighbours.list_stride(scratch, state)
     if ti.static(sleeping):
         for b in range(state.x.shape[0]):
             if _visited(state, scratch, b, sleeping):
-                for i in range(model.body_start[b], model.body_start[b] + model.body_count[b]):
-                    if scratch.nbr_count[i] > 0:
-                        scratch.particle_f[i] = zero
-                        scratch.particle_couple[i] = zero
+                first, end = neighbours.body_active_range(state, scratch, b)
+                for t in range(first, end):
+                    scratch.particle_f[scratch.active[t]] = zero
+                    scratch.particle_couple[scratch.active[t]] = zero
         for b in range(state.x.shape[0]):
             if _visited(state, scratch, b, sleeping):
                 a_rests = sleep.resting(state, b)
                 neighbours.unsee_sleeper(scratch, b)  # all zero again after every sweep
-                for i in range(model.body_start[b], model.body_start[b] + model.body_count[b]):
-                    if scratch.nbr_count[i] > 0:
-                        _sweep_particle(model, state, world, scratch, i, b, a_rests, sleeping)
+                first, end = neighbours.body_active_range(state, scratch, b)
+                for t in range(first, end):
+                    _sweep_particle(model, state, scratch, scratch.active[t], b, a_rests, k, kd, mu, stride, sleeping)
     else:
         for t in range(neighbours.num_active(scratch)):
             i = scratch.active[t]
@@ -164,17 +167,15 @@ def sweep(model: ti.template(), state: ti.template(), world: ti.template(), scra
             scratch.particle_couple[i] = zero
         for t in range(neighbours.num_active(scratch)):
             i = scratch.active[t]
-            _sweep_particle(model, state, world, scratch, i, model.particle_body[i], False, sleeping)
+            _sweep_particle(model, state, scratch, i, model.particle_body[i], False, k, kd, mu, stride, sleeping)
 
 
 @ti.func
-def _sweep_particle(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(),
-                    i, a, a_rests, sleeping: ti.template()):
+def _sweep_particle(model: ti.template(), state: ti.template(), scratch: ti.template(), i, a, a_rests,
+                    k, kd, mu, stride, sleeping: ti.template()):
     """The sweep's turn of active particle i (of body a, resting or not): its pairs with higher
     slots evaluated and given, added to what the lower slots gave it."""
     zero = ti.Vector.zero(float, 3)
-    k, kd, mu = stages.contact_constants(world)
-    stride = neighbours.list_stride(scratch, state)
     p, r_a = state.particle_x[i], model.particle_radius[a]
     x_a, v_a, w_a = state.x[a], state.v[a], state.omega[a]
     f = scratch.particle_f[i]  # the pairs with lower slots, given in their turns

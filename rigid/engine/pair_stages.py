@@ -23,29 +23,29 @@ def note_motion(state: ti.template(), scratch: ti.template(), parallel: ti.templ
 
 
 @ti.func
-def place_for_pairs(model: ti.template(), state: ti.template(), scratch: ti.template(), parallel: ti.template(),
+def place_for_pairs(model: ti.template(), state: ti.template(), scratch: ti.template(), by_body: ti.template(),
                     everything):
     """Stage 1b (bodies in contact): every particle placed if the lists are rebuilt now or
     ``everything`` (a frame's end; 0 or 1, may be a run-time value), else only the active ones
     (the pair stage reads no other) of the bodies awake (a sleeper's particles stay where they
-    are): in parallel from the active list, on one thread body by body (a sleeper's skipped
-    at once, so a settled pile costs next to nothing)."""
+    are): from the active list, or with ``by_body`` (one thread, bodies that sleep) body by body
+    over their runs of it (neighbours.index_active_by_body), a sleeper passed over at once."""
     gate = neighbours.rebuild_gate(scratch)
     if everything:
         gate = 1
     for i in range(state.particle_x.shape[0] * gate):
         stages.place_particle(model, state, i)
-    if ti.static(parallel):
+    if ti.static(by_body):
+        for b in range(state.x.shape[0] * (1 - gate)):
+            if not sleep.asleep(state, b):
+                first, end = neighbours.body_active_range(state, scratch, b)
+                for t in range(first, end):
+                    stages.place_particle(model, state, scratch.active[t])
+    else:
         for t in range(neighbours.num_active(scratch) * (1 - gate)):
             i = scratch.active[t]
             if not sleep.asleep(state, model.particle_body[i]):
                 stages.place_particle(model, state, i)
-    else:
-        for b in range(state.x.shape[0] * (1 - gate)):
-            if not sleep.asleep(state, b):
-                for i in range(model.body_start[b], model.body_start[b] + model.body_count[b]):
-                    if scratch.nbr_count[i] > 0:
-                        stages.place_particle(model, state, i)
 
 
 @ti.func
