@@ -157,9 +157,11 @@ def sweep(model: ti.template(), state: ti.template(), world: ti.template(), scra
             if _visited(state, scratch, b, sleeping):
                 a_rests = sleep.resting(state, b)
                 neighbours.unsee_sleeper(scratch, b)  # all zero again after every sweep
+                body = (model.particle_radius[b], state.x[b], state.v[b], state.omega[b])  # read once a body
                 first, end = neighbours.body_active_range(state, scratch, b)
                 for t in range(first, end):
-                    _sweep_particle(model, state, scratch, scratch.active[t], b, a_rests, k, kd, mu, stride, sleeping)
+                    _sweep_particle(model, state, scratch, scratch.active[t], b, a_rests, body, k, kd, mu, stride,
+                                    sleeping)
     else:
         for t in range(neighbours.num_active(scratch)):
             i = scratch.active[t]
@@ -167,17 +169,19 @@ def sweep(model: ti.template(), state: ti.template(), world: ti.template(), scra
             scratch.particle_couple[i] = zero
         for t in range(neighbours.num_active(scratch)):
             i = scratch.active[t]
-            _sweep_particle(model, state, scratch, i, model.particle_body[i], False, k, kd, mu, stride, sleeping)
+            a = model.particle_body[i]
+            body = (model.particle_radius[a], state.x[a], state.v[a], state.omega[a])
+            _sweep_particle(model, state, scratch, i, a, False, body, k, kd, mu, stride, sleeping)
 
 
 @ti.func
-def _sweep_particle(model: ti.template(), state: ti.template(), scratch: ti.template(), i, a, a_rests,
+def _sweep_particle(model: ti.template(), state: ti.template(), scratch: ti.template(), i, a, a_rests, body: ti.template(),
                     k, kd, mu, stride, sleeping: ti.template()):
-    """The sweep's turn of active particle i (of body a, resting or not): its pairs with higher
-    slots evaluated and given, added to what the lower slots gave it."""
+    """The sweep's turn of active particle i (of body a, resting or not; ``body``: its (radius, x,
+    v, ω)): its pairs with higher slots evaluated and given, added to what the lower slots gave it."""
     zero = ti.Vector.zero(float, 3)
-    p, r_a = state.particle_x[i], model.particle_radius[a]
-    x_a, v_a, w_a = state.x[a], state.v[a], state.omega[a]
+    p = state.particle_x[i]
+    r_a, x_a, v_a, w_a = body
     f = scratch.particle_f[i]  # the pairs with lower slots, given in their turns
     couple = scratch.particle_couple[i]
     n = scratch.nbr_count[i]
