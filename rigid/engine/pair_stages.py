@@ -38,9 +38,10 @@ def place_for_pairs(model: ti.template(), state: ti.template(), scratch: ti.temp
     if ti.static(by_body):
         for b in range(state.x.shape[0] * (1 - gate)):
             if not sleep.asleep(state, b):
+                R, x, v, w = state.R[b], state.x[b], state.v[b], state.omega[b]
                 first, end = neighbours.body_active_range(state, scratch, b)
                 for t in range(first, end):
-                    stages.place_particle(model, state, scratch.active[t])
+                    stages.place_body_particle(model, state, scratch.active[t], R, x, v, w)
     else:
         for t in range(neighbours.num_active(scratch) * (1 - gate)):
             i = scratch.active[t]

@@ -49,9 +49,15 @@ def num_planes(world: ti.template()):
 @ti.func
 def place_particle(model: ti.template(), state: ti.template(), i):
     b = model.particle_body[i]
-    r = matvec(state.R[b], body_offset(model, i))
-    state.particle_x[i] = state.x[b] + r
-    state.particle_v[i] = state.v[b] + state.omega[b].cross(r)
+    place_body_particle(model, state, i, state.R[b], state.x[b], state.v[b], state.omega[b])
+
+
+@ti.func
+def place_body_particle(model: ti.template(), state: ti.template(), i, R, x, v, w):
+    """Slot i placed from its body's R, x, v, ω (which a caller walking a body's particles reads once)."""
+    r = matvec(R, body_offset(model, i))
+    state.particle_x[i] = x + r
+    state.particle_v[i] = v + w.cross(r)
 
 
 @ti.func
