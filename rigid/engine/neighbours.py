@@ -19,11 +19,12 @@ positions (a superset of its list: exact, in the walk's fixed order): no contact
 
 Scratch arrays (ScratchArgs): ``nbr_count`` [N] i32, ``nbr_list`` [N·K] i32 (particle slots),
 ``build_x`` [N] vec3 (world positions at the last build), ``active`` [N] i32 (the slots with a
-candidate, first nbr_flags[2] of them), ``nbr_flags`` [3 + B] i32 (1: rebuild at the next placement;
-builds so far; active particles; then per body b, [3 + b] = 1 when b sleeps and a body that does not
-rest has it in its lists, and [3 + B + b] .. [3 + B + b + 1] its run of the active list, on one
-thread: pair_once.py; one array, as the x64 backend takes at most 64 argument elements), ``grid_params`` [1], [2] = the skin, the relative motion allowed
-before a rebuild (the skin less 2 % for round-off); per body [B]: ``build_pose`` = its x (3) and R
+candidate, first nbr_flags[2] of them), ``nbr_flags`` [4 + 2B] i32 (1: rebuild at the next
+placement; builds so far; active particles; then per body b, [3 + b] = 1 when b sleeps and a
+body that does not rest has it in its lists, and [3 + B + b] .. [3 + B + b + 1] its run of the
+active list, on one thread: pair_once.py; one array, as the x64 backend takes at most 64
+argument elements), ``grid_params`` [1], [2] = the skin, the relative motion allowed before a
+rebuild (the skin less 2 % for round-off); per body [B]: ``build_pose`` = its x (3) and R
 (9, row by row) at the last build and ρ_b, its largest |r0| (13 floats).
 """
 import taichi as ti

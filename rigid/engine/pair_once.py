@@ -55,12 +55,11 @@ def _overlap(state: ti.template(), model: ti.template(), p, r_a, j):
 
 
 @ti.func
-def _note_sleepers(model: ti.template(), state: ti.template(), scratch: ti.template(), i, a, waker):
+def _note_sleepers(model: ti.template(), state: ti.template(), scratch: ti.template(), i, a, waker, stride):
     """Particle i of body a, which does not rest: every sleeping body in its list (or, if the list
     overflowed, in its grid walk) is seen (the sweep visits it), and a ``waker`` (a moving body)
     marks those it overlaps as woken."""
     p, r_a = state.particle_x[i], model.particle_radius[a]
-    stride = neighbours.list_stride(scratch, state)
     n = scratch.nbr_count[i]
     if n <= stride:
         for s in range(n):
@@ -90,17 +89,18 @@ def mark_woken(model: ti.template(), state: ti.template(), world: ti.template(),
     pairs with resting sleepers, all skipped: the sweep passes over it at the cost of one test,
     so a settled pile costs next to nothing. Walks bodies (their runs of the active list,
     neighbours.index_active_by_body), not the whole list, for that reason."""
+    stride = neighbours.list_stride(scratch, state)
     for b in range(state.x.shape[0]):
         if not sleep.asleep(state, b):
             waker = sleep.moving(state, world, scratch, b)
             first, end = neighbours.body_active_range(state, scratch, b)
             for t in range(first, end):
-                _note_sleepers(model, state, scratch, scratch.active[t], b, waker)
+                _note_sleepers(model, state, scratch, scratch.active[t], b, waker, stride)
     for b in range(state.x.shape[0]):
         if sleep.asleep(state, b) and not sleep.resting(state, b):  # woken just now
             first, end = neighbours.body_active_range(state, scratch, b)
             for t in range(first, end):
-                _note_sleepers(model, state, scratch, scratch.active[t], b, False)
+                _note_sleepers(model, state, scratch, scratch.active[t], b, False, stride)
 
 
 @ti.func
