@@ -47,8 +47,10 @@ ORIGINAL_TIMEOUT = 6
 # each version of it), so the single-TODO slips that mistakes_a and mistakes_b combine (TODOs 2, 4, 6
 # and 1, 3, 5, 7, the same messages, the other TODOs full) are not graded again one by one, nor the
 # marker and layout variants, whose regions test_grading_original.py checks line by line.
-COMBINED = ("t1_no_mass", "t2_no_mass", "t3_sign", "t4_swapped_cross", "t5_no_dt", "t6_no_half", "t7_order")
-BATCH_FULL = tuple(n for n in original.FULL if n not in ("marker_variants", "layout"))
+# Likewise the variants that original.COMBINED puts in one file are graded there, not one by one.
+COMBINED = ("t1_no_mass", "t2_no_mass", "t3_sign", "t4_swapped_cross", "t5_no_dt", "t6_no_half", "t7_order",
+            *(part for parts in original.COMBINED.values() for part in parts))
+BATCH_FULL = tuple(n for n in original.FULL if n not in ("marker_variants", "layout", *COMBINED))
 BATCH_WRONG = tuple(sorted(n for n in original.WRONG if n not in COMBINED))
 ORIGINAL = (*BATCH_FULL, "unsolved", "hang_in_todo6", *(n for n in BATCH_WRONG if n != "mistakes_b"))
 HANDOUT = ROOT / "tests" / "data" / "original_handout" / "unsolved.py"  # the original batch's warm cache (--original-handout)
@@ -218,6 +220,8 @@ def test_original_format_mistakes_lose_exactly_their_todos(batches, name):
         words = original.WRONG[name].get(int(k))
         assert t["passed"] == (words is None), (k, t["message"])
         assert words is None or all(w in t["message"] for w in words), t["message"]
+    for words in original.NOTES.get(name, []):  # a combined file's parts' notes (given_edits')
+        assert any(words in n for n in r["notes"]), (words, r["notes"])
     if name == "mistakes_a":  # two ti.init calls and a ti.GUI loop that never checks gui.running
         assert any("ti.init 2 times" in n for n in r["notes"])
     elif name == "mistakes_b":  # the zip brings the mesh it reads
