@@ -63,7 +63,7 @@ def main(argv=None) -> int:
     if validation and "convergence" in validation:
         figures.convergence(validation["convergence"], out / "figures" / "convergence.png")
     bench = load_or_run(out / "bench.json", ["scripts/bench.py", "--out", str(out)], args.rerun, run_if_missing=False)
-    stills = render_stills(out / "figures", size=(320, 180) if args.quick else (640, 360))
+    stills = render_stills(out / "figures", *(((5, 20, 40), (320, 180)) if args.quick else ((10, 60, 150), (640, 360))))
     many_runs = many_scenes(units, out / "figures", args.quick)
     bench_many_json = out / "bench_many.json"  # scripts/bench_many.py writes it (minutes): read only
     bench_many = json.loads(bench_many_json.read_text()) if bench_many_json.exists() else None
