@@ -1,4 +1,8 @@
-"""rigid/engine/frontend.py: Taichi's method test, made quick, gives Taichi's answers, from the first decorator on.
+"""rigid/engine/frontend.py: its quick stand-ins answer as Taichi's and textwrap's do.
+
+QuickWrapper against textwrap on every line of the engine's and Taichi's Python sources and
+the caret rows Taichi draws under them, and on edge cases (tabs, Unicode, control characters,
+lines longer than the width, spaces only).
 
 In a fresh process (this worker has the patch in place already): Taichi's own ``_inside_class``
 and the quick one are asked about the same frames (decorators in a class body, in a function,
@@ -6,10 +10,15 @@ at module level, on a continued line); then a process that imports the engine be
 must never reach ``inspect.getframeinfo`` (Taichi's slow test, once per decorator: ~90 times
 while ``import taichi`` decorates its own functions, without the finder).
 """
+import random
 import subprocess
 import sys
+import textwrap
+from pathlib import Path
 
 from conftest import ROOT
+
+from rigid.engine.frontend import QuickWrapper
 
 SAME_ANSWERS = r'''
 import sys
@@ -90,3 +99,19 @@ def _run(code, tmp_path, name):
 def test_quick_method_test_answers_as_taichis_and_runs_before_taichis_own_decorators(tmp_path):
     assert "same 7" in _run(SAME_ANSWERS, tmp_path, "same_answers")
     assert "getframeinfo 0" in _run(NO_SLOW_TEST, tmp_path, "no_slow_test")
+
+
+def test_quick_wrapper_wraps_as_textwrap():
+    import taichi
+
+    lines = [line for folder in (ROOT / "rigid", Path(taichi.__file__).parent)
+             for path in sorted(folder.rglob("*.py")) for line in path.read_text(encoding="utf-8").splitlines()]
+    rng = random.Random(0)
+    carets = [" " * rng.randrange(40) + "^" * rng.randrange(60) + " " * rng.randrange(30) for _ in range(2000)]
+    edge = ["", " ", " " * 81, "a", "  a  ", "x" * 80, "x" * 81, "a " * 40, " " * 79 + "a", "\tindented", "a\tb",
+            "caf\u00e9", "\u3000a", "a\x1fb", "a\nb", "-" * 85, "a-b " * 30, "  \u00a0 "]
+    assert len(lines) > 50000
+    for width in (80, 10):
+        quick, plain = QuickWrapper(width=width), textwrap.TextWrapper(width=width)
+        for text in [*lines, *carets, *edge]:
+            assert quick.wrap(text) == plain.wrap(text), (width, text)
