@@ -81,15 +81,26 @@ def _quick_wrapper():
 
         With the default options, a text of printable ASCII (so its only whitespace is spaces)
         no longer than the width is one line with its trailing spaces dropped, or no line at all
-        when it is only spaces; the node strings are nearly all such lines. Any other text or
-        option goes to textwrap, so the answer is always textwrap's (tests/test_frontend.py)."""
+        when it is only spaces; the node strings are nearly all such lines. A longer text goes to
+        textwrap once (its answer is kept: every node of a source line wraps that line), and
+        other options always, so the answer is always textwrap's (tests/test_frontend.py)."""
 
         def wrap(self, text):
-            if (len(text) <= self.width and text.isascii() and text.isprintable() and not self.initial_indent
-                    and not self.subsequent_indent and self.drop_whitespace and self.max_lines is None):
+            if self.initial_indent or self.subsequent_indent or not self.drop_whitespace or \
+                    self.max_lines is not None:
+                return super().wrap(text)
+            if len(text) <= self.width and text.isascii() and text.isprintable():
                 return [text.rstrip(" ")] if text.strip(" ") else []
-            return super().wrap(text)
+            key = (self.width, self.expand_tabs, self.tabsize, self.replace_whitespace, self.fix_sentence_endings,
+                   self.break_long_words, self.break_on_hyphens, text)
+            lines = longer.get(key)
+            if lines is None:  # a longer line: textwrap's answer, kept (each node on the line asks again)
+                if len(longer) > 100_000:
+                    longer.clear()
+                lines = longer[key] = super().wrap(text)
+            return list(lines)
 
+    longer: dict = {}
     return QuickWrapper
 
 
