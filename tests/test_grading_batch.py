@@ -13,7 +13,7 @@ shape, and grading_original_variants.py's variants of it, detected as such; grad
 solved, marker spellings, layout, black, bonus terms inside TODOs, edits of the
 given code and other parameters score 90/90 with their notes, unsolved 0, each
 one-TODO mistake (known or not), a lost marker and a syntax error lose exactly
-their TODO, a zip brings its own mesh, an endless loop in TODO 6 costs TODO 6
+their TODO (several of them to a file: grading_original_variants.COMBINED), a zip brings its own mesh, an endless loop in TODO 6 costs TODO 6
 only, and the batch summary is written beside the CSV. All write JSON and CSV. The self-check (--check)
 then runs on the main batch's files and must agree with grade.py on each.
 """
