@@ -10,8 +10,9 @@ own points, within the time limit. Original batch: files in the course's
 original handout format (tests/data/original_handout/ in the real handout's
 shape, and grading_original_variants.py's variants of it, detected as such; graded with
 --original-handout, so each child starts from the kernels of the handout solved):
-solved, marker spellings, layout, black, bonus terms inside TODOs, edits of the
-given code and other parameters score 90/90 with their notes, unsolved 0, each
+solved, marker spellings, layout, black, bonus terms inside TODOs and other
+parameters score 90/90 with their notes, edits of the given code cost nothing
+(in a file with mistakes elsewhere: their note is kept), unsolved 0, each
 one-TODO mistake (known or not), a lost marker and a syntax error lose exactly
 their TODO (several of them to a file: grading_original_variants.COMBINED), a zip brings its own mesh, an endless loop in TODO 6 costs TODO 6
 only, and the batch summary is written beside the CSV. All write JSON and CSV. The self-check (--check)
