@@ -7,16 +7,17 @@ import sys
 import numpy as np
 import pytest
 
-from conftest import ROOT, SOLUTION, default_sigint, killed_at_exit, run_cli
+from conftest import ROOT, SOLUTION, default_sigint, killed_at_exit, run_cli, run_main
 
 ROW_SHAPES = {"t": (), "x": (3,), "q": (4,), "v": (3,), "omega": (3,), "P": (3,), "L": (3,),
               "kinetic_energy": (), "potential_energy": ()}
 
 
-def test_export_keys_shapes_and_initial_row(tmp_path):
+def test_export_keys_shapes_and_initial_row(tmp_path, capsys, monkeypatch):
     out = tmp_path / "t.npz"
-    proc = run_cli("--headless", "--frames", 12, "--export", out, "--scene", "assets/scenes/thrown_sphere.toml")
-    assert proc.returncode == 0, proc.stderr
+    code, _, stderr = run_main(capsys, monkeypatch, "--headless", "--frames", 12, "--export", out, "--scene",
+                               "assets/scenes/thrown_sphere.toml")
+    assert code == 0, stderr
     d = np.load(out)
     assert set(d.files) == set(ROW_SHAPES) | {"mass", "inertia_body", "dt", "substeps"}
     for key, shape in ROW_SHAPES.items():

@@ -169,13 +169,13 @@ def test_escape_names_the_body_and_its_arrival_speed():
                                         "v·√(m/k) = 4 m)")
 
 
-def test_a_body_thrown_through_the_wall_stops_the_run_and_keeps_the_good_frames(tmp_path):
-    from conftest import run_cli
+def test_a_body_thrown_through_the_wall_stops_the_run_and_keeps_the_good_frames(tmp_path, capsys, monkeypatch):
+    from conftest import run_main
 
     out = tmp_path / "t.npz"
-    proc = run_cli("--headless", "--frames", 30, "--v0", 1000, 0, 0, "--export", out)
-    assert proc.returncode == 3, proc.stderr
-    last = proc.stderr.strip().splitlines()[-1]
+    code, _, stderr = run_main(capsys, monkeypatch, "--headless", "--frames", 30, "--v0", 1000, 0, 0, "--export", out)
+    assert code == 3, stderr
+    last = stderr.strip().splitlines()[-1]
     assert re.match(r"blow-up at t = 0\.016 s \(frame 1\): the body left the box: its centre of mass is "
                     r"1\.\d+ m past the wall x = \+1, moving at 1e\+03 m/s", last), last
     assert np.load(out)["x"].shape == (1, 3)  # frame 0, the last good one

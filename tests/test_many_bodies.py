@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from background import Worker
-from conftest import ROOT, run_cli
+from conftest import ROOT, run_cli, run_main
 
 _worker = Worker(Path(__file__).resolve().parent / "many_body_fp64_worker.py", timeout_s=300).start_early()
 
@@ -166,8 +166,9 @@ def test_single_body_export_unchanged():
 
 def test_count_flag_and_refusals(tmp_path, monkeypatch, capsys):
     out = tmp_path / "m.npz"
-    proc = run_cli("--count", "4", "--scale", "0.2", "--headless", "--frames", "3", "--export", out)
-    assert proc.returncode == 0, proc.stderr
+    code, _, stderr = run_main(capsys, monkeypatch, "--count", "4", "--scale", "0.2", "--headless", "--frames", "3",
+                               "--export", out)
+    assert code == 0, stderr
     d = np.load(out)
     assert d["x"].shape == (4, 4, 3) and d["q"].shape == (4, 4, 4) and d["mass"].shape == (4,)
     assert d["inertia_body"].shape == (4, 3, 3) and d["kinetic_energy"].shape == (4,)

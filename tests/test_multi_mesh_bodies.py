@@ -11,7 +11,7 @@ import pytest
 import trimesh
 from trimesh.transformations import rotation_matrix, translation_matrix
 
-from conftest import ROOT, run_cli
+from conftest import ROOT, run_main
 
 SCALE = 0.3  # SimConfig's default scale
 BOX_LOCAL = np.array([-0.8, 0.0, 0.0])  # the box node, child of "pair"
@@ -182,12 +182,12 @@ def test_bad_mesh_in_the_file_is_one_line(capsys, monkeypatch):
         assert err.startswith(message) and len(err.splitlines()) == 1, err
 
 
-def test_cli_runs_the_bodies(glb, tmp_path):
+def test_cli_runs_the_bodies(glb, tmp_path, capsys, monkeypatch):
     path, n_box, n_ball = glb
     out = tmp_path / "out.npz"
-    proc = run_cli("--mesh", path, "--headless", "--frames", "5", "--export", out)
-    assert proc.returncode == 0, proc.stderr
-    assert "t.glb holds 2 meshes: 2 bodies" in proc.stdout.splitlines()
+    code, stdout, stderr = run_main(capsys, monkeypatch, "--mesh", path, "--headless", "--frames", "5", "--export", out)
+    assert code == 0, stderr
+    assert "t.glb holds 2 meshes: 2 bodies" in stdout.splitlines()
     d = np.load(out)
     assert d["x"].shape == (6, 2, 3) and d["q"].shape == (6, 2, 4)
     assert np.allclose(d["mass"], [n_box, n_ball])  # particle_mass 1
@@ -196,18 +196,20 @@ def test_cli_runs_the_bodies(glb, tmp_path):
                        atol=1e-6)
 
 
-def test_cli_one_mesh_glb_and_a_body_table(tmp_path):
+def test_cli_one_mesh_glb_and_a_body_table(tmp_path, capsys, monkeypatch):
     trimesh.creation.box().export(str(tmp_path / "one.glb"))
     out = tmp_path / "one.npz"
-    proc = run_cli("--mesh", tmp_path / "one.glb", "--headless", "--frames", "5", "--export", out)
-    assert proc.returncode == 0, proc.stderr
-    assert "holds" not in proc.stdout and np.load(out)["x"].shape == (6, 3)
+    code, stdout, stderr = run_main(capsys, monkeypatch, "--mesh", tmp_path / "one.glb", "--headless", "--frames",
+                                    "5", "--export", out)
+    assert code == 0, stderr
+    assert "holds" not in stdout and np.load(out)["x"].shape == (6, 3)
     two_meshes(tmp_path / "t.glb")
     (tmp_path / "s.toml").write_text(
         'particle_mass = 0.25\nintegrator = "symplectic"\n\n[[body]]\nmesh = "t.glb"\nposition = [0, 0.3, 0]\n\n'
         '[[body]]\nmesh = "sphere.obj"\nscale = 0.1\nposition = [0, -0.7, 0]\n')
     out = tmp_path / "s.npz"
-    proc = run_cli("--scene", tmp_path / "s.toml", "--headless", "--frames", "1", "--export", out)
-    assert proc.returncode == 0, proc.stderr
+    code, _, stderr = run_main(capsys, monkeypatch, "--scene", tmp_path / "s.toml", "--headless", "--frames", "1",
+                               "--export", out)
+    assert code == 0, stderr
     d = np.load(out)
     assert d["x"].shape == (2, 3, 3) and np.allclose(d["mass"], 0.25 * np.array([8, 42, 42]))
