@@ -43,13 +43,13 @@ def test_fp64_export_is_float64_and_runs_are_byte_identical(tmp_path):
     assert outs[0].read_bytes() == outs[1].read_bytes()
 
 
-def test_blow_up_stops_with_one_line_and_keeps_good_frames(tmp_path):
+def test_blow_up_stops_with_one_line_and_keeps_good_frames(tmp_path, capsys, monkeypatch):
     scene = tmp_path / "stiff.toml"
     scene.write_text("collision_stiffness = 1e7\n")
     out = tmp_path / "t.npz"
-    proc = run_cli("--headless", "--frames", 300, "--scene", scene, "--export", out)
-    assert proc.returncode == 3
-    line = [ln for ln in proc.stderr.splitlines() if "blow-up" in ln]
+    code, _, stderr = run_main(capsys, monkeypatch, "--headless", "--frames", 300, "--scene", scene, "--export", out)
+    assert code == 3
+    line = [ln for ln in stderr.splitlines() if "blow-up" in ln]
     assert len(line) == 1 and "for dt < 0.0001 s, and the contact spring limits it: dt < c/k" in line[0]
     d = np.load(out)
     assert 2 < len(d["t"]) < 300
