@@ -119,18 +119,29 @@ def many_scenes(units, folder: Path, quick: bool) -> dict:
 
 def render_stills(folder: Path, frames=(10, 60, 150), size=(640, 360)) -> list[Path]:
     """Three frames of a recording of the thrown sphere, drawn by the project's renderer
-    (rigid/view/raster.py, offscreen: no display, no Vulkan); empty if recording fails."""
+    (rigid/view/raster.py, offscreen: no display, no Vulkan); empty if recording fails.
+    The command line runs in this process, on the kernels the report has compiled already (a
+    process of its own started Taichi and built them again: ~5 s of CPU)."""
+    import contextlib
+    import io
+
     import av
     import numpy as np
     from PIL import Image
 
+    from rigid.cli import main as command_line
+
     video = folder / "thrown_sphere.mp4"
-    proc = subprocess.run([sys.executable, "rigid_body_dynamic.py", "--scene", "assets/scenes/thrown_sphere.toml",
-                           "--record", str(video), "--frames", str(max(frames) + 1),
-                           "--resolution", str(size[0]), str(size[1])],
-                          cwd=ROOT, capture_output=True, text=True)
-    if proc.returncode != 0:
-        print(f"note: no stills ({proc.stderr.strip().splitlines()[-1:]})", file=sys.stderr)
+    said = io.StringIO()
+    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(said):
+        try:
+            code = command_line(["--scene", str(ROOT / "assets" / "scenes" / "thrown_sphere.toml"),
+                                 "--record", str(video), "--frames", str(max(frames) + 1),
+                                 "--resolution", str(size[0]), str(size[1])])
+        except SystemExit as stop:
+            code = stop.code
+    if code != 0:
+        print(f"note: no stills ({said.getvalue().strip().splitlines()[-1:]})", file=sys.stderr)
         return []
     paths = []
     with av.open(str(video)) as container:
