@@ -120,8 +120,9 @@ def many_scenes(units, folder: Path, quick: bool) -> dict:
 def render_stills(folder: Path, frames=(10, 60, 150), size=(640, 360)) -> list[Path]:
     """Three frames of a recording of the thrown sphere, drawn by the project's renderer
     (rigid/view/raster.py, offscreen: no display, no Vulkan); empty if recording fails.
-    The command line runs in this process, on the kernels the report has compiled already (a
-    process of its own started Taichi and built them again: ~5 s of CPU)."""
+    What ``--scene assets/scenes/thrown_sphere.toml --record`` writes (the same scene, camera
+    and ``view.video.record``), made in this process on the kernels the report has compiled
+    already: a process of its own started Taichi and built them again (~2 s of CPU)."""
     import contextlib
     import io
 
@@ -129,19 +130,27 @@ def render_stills(folder: Path, frames=(10, 60, 150), size=(640, 360)) -> list[P
     import numpy as np
     from PIL import Image
 
-    from rigid.cli import main as command_line
+    from rigid.bodies.placement import scene_bodies
+    from rigid.config import SimConfig, load_scene
+    from rigid.engine.simulator import Simulator
+    from rigid.engine.units import default_units
+    from rigid.errors import UserError
+    from rigid.view.camera import camera_spec
+    from rigid.view.video import record
 
     video = folder / "thrown_sphere.mp4"
-    said = io.StringIO()
-    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(said):
-        try:
-            code = command_line(["--scene", str(ROOT / "assets" / "scenes" / "thrown_sphere.toml"),
-                                 "--record", str(video), "--frames", str(max(frames) + 1),
-                                 "--resolution", str(size[0]), str(size[1])])
-        except SystemExit as stop:
-            code = stop.code
-    if code != 0:
-        print(f"note: no stills ({said.getvalue().strip().splitlines()[-1:]})", file=sys.stderr)
+    scene = ROOT / "assets" / "scenes" / "thrown_sphere.toml"
+    try:
+        config = SimConfig(**{**load_scene(scene), "frames": max(frames) + 1, "resolution": size}).validate()
+        sim = Simulator(config, default_units(), bodies=scene_bodies(config))
+        with contextlib.redirect_stderr(io.StringIO()):  # the progress bar
+            result = record(sim, video, config.frames, config.resolution, progress=False,
+                            camera=camera_spec(config.camera, f"scene file {scene}: [camera]"))
+        failed = "" if result.exit_code == 0 else f"the recording stopped (exit code {result.exit_code})"
+    except (UserError, OSError) as err:
+        failed = str(err)
+    if failed:
+        print(f"note: no stills ({failed})", file=sys.stderr)
         return []
     paths = []
     with av.open(str(video)) as container:
