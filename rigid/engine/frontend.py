@@ -34,6 +34,8 @@ from 1.7's it leaves them alone.
 """
 from __future__ import annotations
 
+import textwrap
+
 _installed = False
 
 
@@ -73,38 +75,31 @@ def install() -> None:
     ASTTransformerContext.get_pos_info = get_pos_info
 
 
-def _quick_wrapper():
-    import textwrap
+class QuickWrapper(textwrap.TextWrapper):
+    """``TextWrapper.wrap`` with its answer for a line that fits written down, not computed.
 
-    class QuickWrapper(textwrap.TextWrapper):
-        """``TextWrapper.wrap`` with its answer for a line that fits written down, not computed.
+    With the default options, a text of printable ASCII (so its only whitespace is spaces)
+    no longer than the width is one line with its trailing spaces dropped, or no line at all
+    when it is only spaces; the node strings are nearly all such lines. A longer text goes to
+    textwrap once (its answer is kept: every node of a source line wraps that line), and
+    other options always, so the answer is always textwrap's (tests/test_frontend.py)."""
 
-        With the default options, a text of printable ASCII (so its only whitespace is spaces)
-        no longer than the width is one line with its trailing spaces dropped, or no line at all
-        when it is only spaces; the node strings are nearly all such lines. A longer text goes to
-        textwrap once (its answer is kept: every node of a source line wraps that line), and
-        other options always, so the answer is always textwrap's (tests/test_frontend.py)."""
+    _longer: dict = {}  # (options, text) -> textwrap's lines, for texts longer than the width
 
-        def wrap(self, text):
-            if self.initial_indent or self.subsequent_indent or not self.drop_whitespace or \
-                    self.max_lines is not None:
-                return super().wrap(text)
-            if len(text) <= self.width and text.isascii() and text.isprintable():
-                return [text.rstrip(" ")] if text.strip(" ") else []
-            key = (self.width, self.expand_tabs, self.tabsize, self.replace_whitespace, self.fix_sentence_endings,
-                   self.break_long_words, self.break_on_hyphens, text)
-            lines = longer.get(key)
-            if lines is None:  # a longer line: textwrap's answer, kept (each node on the line asks again)
-                if len(longer) > 100_000:
-                    longer.clear()
-                lines = longer[key] = super().wrap(text)
-            return list(lines)
-
-    longer: dict = {}
-    return QuickWrapper
-
-
-QuickWrapper = _quick_wrapper()
+    def wrap(self, text):
+        if self.initial_indent or self.subsequent_indent or not self.drop_whitespace or \
+                self.max_lines is not None:
+            return super().wrap(text)
+        if len(text) <= self.width and text.isascii() and text.isprintable():
+            return [text.rstrip(" ")] if text.strip(" ") else []
+        key = (self.width, self.expand_tabs, self.tabsize, self.replace_whitespace, self.fix_sentence_endings,
+               self.break_long_words, self.break_on_hyphens, text)
+        lines = self._longer.get(key)
+        if lines is None:
+            if len(self._longer) > 100_000:
+                self._longer.clear()
+            lines = self._longer[key] = super().wrap(text)
+        return list(lines)
 
 
 def _quick_class_test() -> None:
@@ -187,7 +182,6 @@ def _patch_class_test(kernel_impl) -> None:
 def _sources_once() -> None:
     """Taichi's source reading for the frontend, each result computed once (see above)."""
     import functools
-    import textwrap
     import types
     import weakref
 

@@ -63,7 +63,8 @@ def main(argv=None) -> int:
     if validation and "convergence" in validation:
         figures.convergence(validation["convergence"], out / "figures" / "convergence.png")
     bench = load_or_run(out / "bench.json", ["scripts/bench.py", "--out", str(out)], args.rerun, run_if_missing=False)
-    stills = render_stills(out / "figures", *(((5, 20, 40), (320, 180)) if args.quick else ((10, 60, 150), (640, 360))))
+    still_frames, still_size = ((5, 20, 40), (320, 180)) if args.quick else ((10, 60, 150), (640, 360))
+    stills = render_stills(units, out / "figures", still_frames, still_size)
     many_runs = many_scenes(units, out / "figures", args.quick)
     bench_many_json = out / "bench_many.json"  # scripts/bench_many.py writes it (minutes): read only
     bench_many = json.loads(bench_many_json.read_text()) if bench_many_json.exists() else None
@@ -117,12 +118,12 @@ def many_scenes(units, folder: Path, quick: bool) -> dict:
     return results
 
 
-def render_stills(folder: Path, frames=(10, 60, 150), size=(640, 360)) -> list[Path]:
-    """Three frames of a recording of the thrown sphere, drawn by the project's renderer
-    (rigid/view/raster.py, offscreen: no display, no Vulkan); empty if recording fails.
+def render_stills(units, folder: Path, frames: tuple, size: tuple) -> list[Path]:
+    """Frames ``frames`` of a recording of the thrown sphere at ``size``, drawn by the project's
+    renderer (rigid/view/raster.py, offscreen: no display, no Vulkan); empty if recording fails.
     What ``--scene assets/scenes/thrown_sphere.toml --record`` writes (the same scene, camera
-    and ``view.video.record``), made in this process on the kernels the report has compiled
-    already: a process of its own started Taichi and built them again (~2 s of CPU)."""
+    and ``view.video.record``), made in this process with the report's ``units`` on the kernels
+    it has compiled already: a process of its own started Taichi and built them again."""
     import contextlib
     import io
 
@@ -133,7 +134,6 @@ def render_stills(folder: Path, frames=(10, 60, 150), size=(640, 360)) -> list[P
     from rigid.bodies.placement import scene_bodies
     from rigid.config import SimConfig, load_scene
     from rigid.engine.simulator import Simulator
-    from rigid.engine.units import default_units
     from rigid.errors import UserError
     from rigid.view.camera import camera_spec
     from rigid.view.video import record
@@ -142,7 +142,7 @@ def render_stills(folder: Path, frames=(10, 60, 150), size=(640, 360)) -> list[P
     scene = ROOT / "assets" / "scenes" / "thrown_sphere.toml"
     try:
         config = SimConfig(**{**load_scene(scene), "frames": max(frames) + 1, "resolution": size}).validate()
-        sim = Simulator(config, default_units(), bodies=scene_bodies(config))
+        sim = Simulator(config, units, bodies=scene_bodies(config))
         with contextlib.redirect_stderr(io.StringIO()):  # the progress bar
             result = record(sim, video, config.frames, config.resolution, progress=False,
                             camera=camera_spec(config.camera, f"scene file {scene}: [camera]"))
