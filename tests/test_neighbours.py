@@ -37,23 +37,25 @@ def test_every_touching_pair_is_in_the_lists(sim_cache):
 def test_the_turn_bound_holds_for_any_matrix_and_is_sqrt2_tighter_for_rotations(sim_cache):
     """_turn_norm(R, R0) bounds the spectral norm of R − R0 (numpy's SVD), the most a unit
     offset moves: for rotations (where it is ‖R − R0‖_F / √2 up to round-off), for rotations
-    off by round-off, and for arbitrary matrices (where it falls back to ‖R − R0‖_F)."""
+    off by round-off, and for arbitrary matrices (where it falls back to ‖R − R0‖_F); and
+    1 + motion._defect(R) bounds ‖R‖₂, the most R stretches an offset (note_motion's reach of a body)."""
     import taichi as ti
     from scipy.spatial.transform import Rotation
 
-    from rigid.engine import neighbours
+    from rigid.engine import motion
 
     sim_cache(count=2, sleep=False)  # a Taichi runtime, in float32 as the engine runs
 
     @ti.kernel
-    def bound(R: ti.types.ndarray(), R0: ti.types.ndarray(), out: ti.types.ndarray()):
+    def bound(R: ti.types.ndarray(), R0: ti.types.ndarray(), out: ti.types.ndarray(), stretch: ti.types.ndarray()):
         for n in range(out.shape[0]):
             a = ti.Matrix.zero(float, 3, 3)
             b = ti.Matrix.zero(float, 3, 3)
             for r, c in ti.static(ti.ndrange(3, 3)):
                 a[r, c] = R[n, r, c]
                 b[r, c] = R0[n, r, c]
-            out[n] = neighbours._turn_norm(a, b)
+            out[n] = motion._turn_norm(a, b)
+            stretch[n] = 1.0 + motion._defect(a)
 
     rng = np.random.default_rng(1)
     n = 400
@@ -64,11 +66,41 @@ def test_the_turn_bound_holds_for_any_matrix_and_is_sqrt2_tighter_for_rotations(
              "any matrices": (rng.normal(size=(n, 3, 3)), rng.normal(size=(n, 3, 3))),
              "a reflection": (base * np.array([1.0, 1.0, -1.0]), base)}
     for name, (R, R0) in cases.items():
-        out = np.zeros(n, np.float32)
-        bound(R.astype(np.float32), R0.astype(np.float32), out)
+        out, stretch = np.zeros(n, np.float32), np.zeros(n, np.float32)
+        bound(R.astype(np.float32), R0.astype(np.float32), out, stretch)
+        assert np.all(stretch >= np.linalg.norm(R, ord=2, axis=(1, 2)) * (1 - 1e-5)), name
         spectral = np.linalg.norm(R - R0, ord=2, axis=(1, 2))
         frob = np.linalg.norm(R - R0, axis=(1, 2))
         assert np.all(out >= spectral * (1 - 1e-5) - 1e-6), name
         assert np.all(out <= frob * (1 + 1e-5) + 1e-6), name
         if name == "rotations":
             np.testing.assert_allclose(out, frob / np.sqrt(2), rtol=2e-3, atol=1e-5)
+
+
+def test_bodies_far_apart_rebuild_nothing_and_still_meet(sim_cache):
+    """The rebuild rule looks only at pairs of bodies near enough to touch (close_pairs_moved):
+    a sphere flying at another from afar moves many skins relative to it without a rebuild
+    while their bounding spheres are apart, then the lists are rebuilt as they close and the
+    head-on collision exchanges their velocities (equal masses, elastic enough: the spring
+    law's restitution is well above 0)."""
+    sphere = str(ASSETS / "sphere.obj")
+    sim = sim_cache(bodies=(dict(mesh=sphere, scale=0.15, position=(-0.7, 0.0, 0.0), initial_velocity=(3.0, 0.0, 0.0)),
+                            dict(mesh=sphere, scale=0.15, position=(0.7, 0.0, 0.0))),
+                    gravity=(0.0, 0.0, 0.0), particle_mass=0.01, velocity_damping_stiffness=1.0, friction_stiffness=0.0,
+                    integrator="symplectic", sleep=False)
+    skin = float(sim._scratch_arrays["grid_params"].to_numpy()[1])
+    rho = np.linalg.norm(sim.model.r0_np, axis=1).max()
+    reach = 2 * rho + 2 * sim.model.radius_np.max()
+    sim.step_frame()
+    builds0, x0 = sim.neighbour_builds, sim.snapshot()["x"]
+    frames = 0
+    while np.linalg.norm(np.diff(sim.snapshot()["x"], axis=0)) > reach + 0.1:
+        sim.step_frame()
+        frames += 1
+    moved = np.linalg.norm((sim.snapshot()["x"] - x0)[0])
+    assert moved > 20 * skin, "the sphere did not move far relative to the skin: the test would prove nothing"
+    assert sim.neighbour_builds == builds0, "bodies far apart rebuilt the lists"
+    sim.advance_frames(4)  # the collision (the second sphere reaches the wall 6 frames later)
+    v = sim.snapshot()["v"]
+    assert sim.neighbour_builds > builds0
+    assert v[0, 0] < 0.3 and v[1, 0] > 2.0, v  # the first stopped (nearly), the second flies off

@@ -7,7 +7,8 @@
   scratch.py    the arrays a substep rewrites (forces, grid, lists, RK4), sized for a scene
   stages.py     the stages of a substep; pair_stages.py: those only bodies in contact need;
                 pair_once.py: on one thread, each pair's force computed once for both sides
-  contact.py    the one contact law; grid.py, scan.py, neighbours.py: the grid and neighbour lists
+  contact.py    the one contact law; grid.py, scan.py, neighbours.py: the grid and neighbour lists;
+                motion.py: when the lists must be rebuilt (each body's motion, the pairs near enough to touch)
   sleep.py      bodies at rest stop being integrated until something touches them
   grab.py       the mouse's spring on one particle (runtime values in WorldArgs.values)
   materials.py  restitution e -> each contact's damper, the pair rules; damping_table.py: ζ'(e, ωΔt,

@@ -14,7 +14,7 @@ Two schedules run the same stages (stages.py), chosen by schedule.py:
 
 import taichi as ti
 
-from . import grid, material_stages, neighbours, pair_once, pair_stages, schemes, sleep, stages
+from . import grid, material_stages, motion, neighbours, pair_once, pair_stages, schemes, sleep, stages
 from .arrays import ModelArgs, RowArgs, ScratchArgs, StateArgs, SurfaceArgs, WorldArgs
 from .matvec import body_offset, matvec
 from .state import DT
@@ -66,7 +66,7 @@ class EngineKernels:
             rebuilt (grid and lists) if a particle may have moved half the skin since their last build."""
             by_body = ti.static(sleeping and not parallel)  # the one-thread stages walk bodies (pair_once.py)
             if ti.static(pairs):
-                pair_stages.note_motion(state, scratch, parallel)
+                pair_stages.note_motion(model, state, scratch, parallel)
                 pair_stages.place_for_pairs(model, state, scratch, by_body, everything)
                 grid.clear_and_count(scratch, state, neighbours.rebuild_gate(scratch))
                 if ti.static(parallel):
@@ -81,7 +81,7 @@ class EngineKernels:
                 for i in range(state.particle_x.shape[0] * neighbours.rebuild_gate(scratch)):
                     neighbours.finish_list(state, scratch, i)
                 for b in range(state.x.shape[0] * neighbours.rebuild_gate(scratch)):
-                    neighbours.keep_build_pose(scratch, state, b)
+                    motion.keep_build_pose(scratch, state, b)
                 if ti.static(by_body):
                     if neighbours.rebuild_gate(scratch):
                         neighbours.index_active_by_body(model, state, scratch)

@@ -6,7 +6,8 @@ each particle keeps a list of the other bodies' particles within r_a + r_b + ski
 from the grid (grid.py, cells of the largest diameter + the skin) and reused until two
 particles may have closed by more than the skin since the build: until then no pair can have
 come from beyond reach + skin to within reach, so every pair in contact is in the
-list (Verlet 1967; the classic rebuild test, here on relative motion bounded per body: note_motion). Own-body
+list (Verlet 1967; the classic rebuild test, here on relative motion bounded per body, and only
+for pairs of bodies near enough to touch: note_motion, close_pairs_moved). Own-body
 candidates never enter the list. Only the particles with a candidate (the active list) are
 placed and visited by the pair stage between builds; the others' pair force stays zero.
 
@@ -20,12 +21,14 @@ positions (a superset of its list: exact, in the walk's fixed order): no contact
 Scratch arrays (ScratchArgs): ``nbr_count`` [N] i32, ``nbr_list`` [N·K] i32 (particle slots),
 ``build_x`` [N] vec3 (world positions at the last build), ``active`` [N] i32 (the slots with a
 candidate, first nbr_flags[2] of them), ``nbr_flags`` [4 + 2B] i32 (1: rebuild at the next
-placement; builds so far; active particles; then per body b, [3 + b] = 1 when b sleeps and a
+placement, MAYBE while note_motion leaves it to close_pairs_moved; builds so far; active particles; then per body b, [3 + b] = 1 when b sleeps and a
 body that does not rest has it in its lists, and [3 + B + b] .. [3 + B + b + 1] its run of the
 active list, on one thread: pair_once.py; one array, as the x64 backend takes at most 64
 argument elements), ``grid_params`` [1], [2] = the skin, the relative motion allowed before a
 rebuild (the skin less 2 % for round-off); per body [B]: ``build_pose`` = its x (3) and R
-(9, row by row) at the last build and ρ_b, its largest |r0| (13 floats).
+(9, row by row) at the last build, ρ_b, its largest |r0|, then (note_motion, each substep) e_b,
+the bound on its particles' motion since the build, and ρ'_b >= its particles' distance from
+its centre now (15 floats).
 """
 import taichi as ti
 
@@ -33,94 +36,7 @@ from . import grid
 
 NEIGHBOURS_PER_PARTICLE = 16  # list slots per particle; beyond, the particle walks the grid (exact)
 SKIN_FRACTION = 0.5  # skin = this × the largest particle diameter
-ROTATION_DEFECT = 1e-3  # _turn_norm: the orthogonality defect up to which R is taken for a rotation
 ALLOWED_MOTION = 0.98  # × the skin: two particles' relative motion before a rebuild (less 2 % for round-off)
-
-
-@ti.func
-def _defect(M):
-    """‖MᵀM − I‖_F: bounds the distance of M from the nearest orthogonal matrix (for singular
-    values σ, √Σ(σ − 1)² <= √Σ(σ² − 1)²)."""
-    total = 0.0
-    for r, c in ti.static(ti.ndrange(3, 3)):
-        dot = M[0, r] * M[0, c] + M[1, r] * M[1, c] + M[2, r] * M[2, c]
-        total += (dot - (1.0 if ti.static(r == c) else 0.0)) ** 2
-    return ti.sqrt(total)
-
-
-@ti.func
-def _turn_norm(R, R0):
-    """A bound on ‖R − R0‖₂, the most a unit offset moved by the change of orientation.
-    ‖R − R0‖_F holds for any matrices. For two rotations it is √2 times too large (R R0ᵀ − I
-    has singular values 2 sin(θ/2) twice and 0), so where R and R0 are rotations up to δ, δ₀
-    (_defect, and det > 0: the nearest orthogonal matrices are proper) the bound is
-    (‖R − R0‖_F + δ + δ₀)/√2 + δ + δ₀ (each off its rotation by at most its δ in Frobenius)."""
-    frob2 = 0.0
-    for r, c in ti.static(ti.ndrange(3, 3)):
-        frob2 += (R[r, c] - R0[r, c]) ** 2
-    frob = ti.sqrt(frob2)
-    off = _defect(R) + _defect(R0)
-    bound = frob
-    if off < ROTATION_DEFECT and R.determinant() > 0 and R0.determinant() > 0:
-        bound = ti.min(frob, (frob + off) * (0.5 ** 0.5) + off)
-    return bound
-
-
-@ti.func
-def _body_shift(scratch: ti.template(), state: ti.template(), b):
-    """(Δx of body b since the last build, the bound _turn_norm(R, R_build) ρ_b)."""
-    pose = scratch.build_pose[b]
-    x, R = state.x[b], state.R[b]
-    dx = ti.Vector([x[0] - pose[0], x[1] - pose[1], x[2] - pose[2]])
-    R0 = ti.Matrix([[pose[3], pose[4], pose[5]], [pose[6], pose[7], pose[8]], [pose[9], pose[10], pose[11]]])
-    return dx, _turn_norm(R, R0) * pose[12]
-
-
-@ti.func
-def note_motion(scratch: ti.template(), state: ti.template()):
-    """Ask for a rebuild if two particles may have closed by more than the skin since the last
-    build (run on one thread: a fixed-order sum). A particle of body b moved by
-    Δx_b + ΔR_b r0, so for any common vector c, |Δpᵢ − Δpⱼ| <= e_a + e_b with
-    e_b = |Δx_b − c| + ‖ΔR_b‖₂ ρ_b (ρ_b the body's largest |r0|; ‖ΔR_b‖₂ bounded by _turn_norm,
-    for any matrix R, √2 tighter for rotations): the lists
-    hold while the two largest e sum to at most the skin. Distances do not change when every
-    body moves alike, so c is the middle of the bodies' Δx (per axis, halfway between the least
-    and the largest): a pile falling as one rebuilds nothing, and while some bodies rest and
-    others fall, each e is about half their relative motion (the mean Δx, used before, left
-    nearly all of it to the fallers: 6-14 % more rebuilds in the benchmark piles). A NaN
-    counts as moved."""
-    B = state.x.shape[0]
-    lo = ti.Vector([1e30, 1e30, 1e30], float)
-    hi = -lo
-    for b in range(B):
-        dx, _turn = _body_shift(scratch, state, b)
-        lo = ti.min(lo, dx)
-        hi = ti.max(hi, dx)
-    c = 0.5 * (lo + hi)
-    first, second = 0.0, 0.0
-    for b in range(B):
-        dx, turn = _body_shift(scratch, state, b)
-        e = (dx - c).norm() + turn
-        if not (e <= 1e30):
-            e = 1e30
-        if e > first:
-            second = first
-            first = e
-        elif e > second:
-            second = e
-    if not (first + second <= scratch.grid_params[2]):
-        scratch.nbr_flags[0] = 1
-
-
-@ti.func
-def keep_build_pose(scratch: ti.template(), state: ti.template(), b):
-    x, R = state.x[b], state.R[b]
-    pose = scratch.build_pose[b]
-    for c in ti.static(range(3)):
-        pose[c] = x[c]
-    for r, c in ti.static(ti.ndrange(3, 3)):
-        pose[3 + 3 * r + c] = R[r, c]
-    scratch.build_pose[b] = pose  # ρ_b (pose[12]) kept
 
 
 @ti.func

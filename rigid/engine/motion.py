@@ -1,0 +1,147 @@
+"""When the neighbour lists (neighbours.py) must be rebuilt: each body's motion since the last
+build, bounded per body, and the pairs of bodies near enough to touch (stage 1a of a substep).
+
+The lists hold every pair of other bodies' particles within reach + skin at the build, so
+they stay exact while no pair of particles that may touch now has closed by more than the
+skin. A particle of body b moved by Δx_b + ΔR_b r0; note_motion bounds that per body (e_b,
+relative to a common shift) and, when the two largest bounds sum past the skin,
+close_pairs_moved asks only the pairs of bodies whose bounding spheres overlap. The flag it
+raises is nbr_flags[0] (neighbours.py: 1 = rebuild at this placement; MAYBE while undecided);
+each body's e_b and reach ρ'_b sit in slots 13 and 14 of its build_pose.
+"""
+import taichi as ti
+
+ROTATION_DEFECT = 1e-3  # _turn_norm: the orthogonality defect up to which R is taken for a rotation
+MAYBE = 2  # nbr_flags[0] while note_motion's rebuild is undecided (close_pairs_moved decides)
+
+
+@ti.func
+def _defect(M):
+    """‖MᵀM − I‖_F: bounds the distance of M from the nearest orthogonal matrix (for singular
+    values σ, √Σ(σ − 1)² <= √Σ(σ² − 1)²)."""
+    total = 0.0
+    for r, c in ti.static(ti.ndrange(3, 3)):
+        dot = M[0, r] * M[0, c] + M[1, r] * M[1, c] + M[2, r] * M[2, c]
+        total += (dot - (1.0 if ti.static(r == c) else 0.0)) ** 2
+    return ti.sqrt(total)
+
+
+@ti.func
+def _turn_norm(R, R0):
+    """A bound on ‖R − R0‖₂, the most a unit offset moved by the change of orientation.
+    ‖R − R0‖_F holds for any matrices. For two rotations it is √2 times too large (R R0ᵀ − I
+    has singular values 2 sin(θ/2) twice and 0), so where R and R0 are rotations up to δ, δ₀
+    (_defect, and det > 0: the nearest orthogonal matrices are proper) the bound is
+    (‖R − R0‖_F + δ + δ₀)/√2 + δ + δ₀ (each off its rotation by at most its δ in Frobenius)."""
+    frob2 = 0.0
+    for r, c in ti.static(ti.ndrange(3, 3)):
+        frob2 += (R[r, c] - R0[r, c]) ** 2
+    frob = ti.sqrt(frob2)
+    off = _defect(R) + _defect(R0)
+    bound = frob
+    if off < ROTATION_DEFECT and R.determinant() > 0 and R0.determinant() > 0:
+        bound = ti.min(frob, (frob + off) * (0.5 ** 0.5) + off)
+    return bound
+
+
+@ti.func
+def _body_shift(scratch: ti.template(), state: ti.template(), b):
+    """(Δx of body b since the last build, the bound _turn_norm(R, R_build) ρ_b)."""
+    pose = scratch.build_pose[b]
+    x, R = state.x[b], state.R[b]
+    dx = ti.Vector([x[0] - pose[0], x[1] - pose[1], x[2] - pose[2]])
+    R0 = ti.Matrix([[pose[3], pose[4], pose[5]], [pose[6], pose[7], pose[8]], [pose[9], pose[10], pose[11]]])
+    return dx, _turn_norm(R, R0) * pose[12]
+
+
+@ti.func
+def note_motion(scratch: ti.template(), state: ti.template()):
+    """Measure each body's motion since the last build and ask for a rebuild if two particles may
+    have closed by more than the skin in total (run on one thread: a fixed-order sum). A
+    particle of body b moved by Δx_b + ΔR_b r0, so for any common vector c,
+    |Δpᵢ − Δpⱼ| <= e_a + e_b with e_b = |Δx_b − c| + ‖ΔR_b‖₂ ρ_b (ρ_b the body's largest
+    |r0|; ‖ΔR_b‖₂ bounded by _turn_norm, for any matrix R, √2 tighter for rotations). Distances
+    do not change when every body moves alike, so c is the middle of the bodies' Δx (per axis,
+    halfway between the least and the largest): a pile falling as one rebuilds nothing, and
+    while some bodies rest and others fall, each e is about half their relative motion (the mean
+    Δx, used before, left nearly all of it to the fallers: 6-14 % more rebuilds in the benchmark
+    piles). While the two largest e sum to at most the skin, no pair can have closed by more;
+    else ``close_pairs_moved`` looks at the pairs of bodies near enough to touch. Each body's
+    e and a bound on its particles' distance from its centre are kept in its build_pose
+    (slots 13, 14) for that test. A NaN counts as moved (a rebuild at once)."""
+    B = state.x.shape[0]
+    lo = ti.Vector([1e30, 1e30, 1e30], float)
+    hi = -lo
+    for b in range(B):
+        dx, _turn = _body_shift(scratch, state, b)
+        lo = ti.min(lo, dx)
+        hi = ti.max(hi, dx)
+    c = 0.5 * (lo + hi)
+    first, second = 0.0, 0.0
+    for b in range(B):
+        dx, turn = _body_shift(scratch, state, b)
+        e = (dx - c).norm() + turn
+        if not (e <= 1e30):
+            e = 1e30
+        pose = scratch.build_pose[b]
+        pose[13] = e
+        pose[14] = pose[12] * (1.0 + _defect(state.R[b])) * (1.0 + 1e-5)  # ‖R‖₂ <= 1 + ‖RᵀR − I‖_F
+        scratch.build_pose[b] = pose
+        if e > first:
+            second = first
+            first = e
+        elif e > second:
+            second = e
+    if first >= 1e30:
+        scratch.nbr_flags[0] = 1
+    elif first + second > scratch.grid_params[2] and scratch.nbr_flags[0] == 0:
+        scratch.nbr_flags[0] = MAYBE  # close_pairs_moved decides
+
+
+@ti.func
+def motion_undecided(scratch: ti.template()):
+    """1 when note_motion left the rebuild to close_pairs_moved, else 0."""
+    return ti.cast(scratch.nbr_flags[0] == MAYBE, ti.i32)
+
+
+@ti.func
+def settle_motion(scratch: ti.template()):
+    """After close_pairs_moved (one thread): no rebuild if no pair asked for one."""
+    if scratch.nbr_flags[0] == MAYBE:
+        scratch.nbr_flags[0] = 0
+
+
+@ti.func
+def close_pairs_moved(model: ti.template(), state: ti.template(), scratch: ti.template(), a):
+    """After note_motion: ask for a rebuild if body a and another body b that may now touch it
+    have moved by more than the skin in total (e_a + e_b, note_motion). Only such a pair can
+    hold two particles now within reach that were not within reach + skin at the build (so
+    not in the lists); two bodies touch only if their centres are within
+    ρ'_a + ρ'_b + r_a + r_b (ρ' a bound on |R r0|, note_motion). Each pair is tested from
+    the side with the larger e (ties: the lower index), whose e then exceeds half the skin: so
+    a body that moves alone, far from the others, rebuilds nothing, and a substep with no fast
+    body costs one comparison a body. Any order (threads may run it): it only raises the flag."""
+    allowed = scratch.grid_params[2]
+    pose_a = scratch.build_pose[a]
+    e_a = pose_a[13]
+    if e_a > 0.5 * allowed and scratch.nbr_flags[0] == MAYBE:  # (once raised, the others need not look)
+        x_a, reach_a = state.x[a], pose_a[14] + model.particle_radius[a]
+        for b in range(state.x.shape[0]):
+            pose_b = scratch.build_pose[b]
+            e_b = pose_b[13]
+            if b != a and e_a + e_b > allowed and (e_b < e_a or (e_b == e_a and b > a)):
+                d = state.x[b] - x_a
+                reach = (reach_a + pose_b[14] + model.particle_radius[b]) * (1.0 + 1e-5)
+                if d.dot(d) < reach * reach:
+                    scratch.nbr_flags[0] = 1
+
+
+@ti.func
+def keep_build_pose(scratch: ti.template(), state: ti.template(), b):
+    x, R = state.x[b], state.R[b]
+    pose = scratch.build_pose[b]
+    for c in ti.static(range(3)):
+        pose[c] = x[c]
+    for r, c in ti.static(ti.ndrange(3, 3)):
+        pose[3 + 3 * r + c] = R[r, c]
+    scratch.build_pose[b] = pose  # ρ_b (pose[12]) kept
