@@ -39,10 +39,15 @@ def markdown(r: dict) -> str:
         lines.append("")
     if r.get("scaling"):
         lines += ["## Cost per substep against particle count (125 volume-sampled spheres)", "",
+                  "The same simulated windows at every size: falling (frames 2-7, no contact yet) and in "
+                  "contact (frames 61-66, the pile formed; the spheres' small particles overlap deeply, so "
+                  "about two thirds of them touch another body's).", "",
                   "![scaling](figures/many_scaling.png)", "",
-                  "| particles | grid | path | µs/substep | ns per particle-substep |", "|---|---|---|---|---|"]
+                  "| particles | grid | path | µs/substep falling | ns per particle-substep | µs/substep in contact "
+                  "| ns per particle-substep |", "|---|---|---|---|---|---|---|"]
         lines += [f"| {p['particles']:,} | {p['grid']} | {p['path']} | {p['us_per_substep']:,} | "
-                  f"{p['ns_per_particle_substep']} |" for p in r["scaling"]]
+                  f"{p['ns_per_particle_substep']} | {_get(p, 'contact_us_per_substep', ',')} | "
+                  f"{_get(p, 'contact_ns_per_particle_substep')} |" for p in r["scaling"]]
         lines.append("")
     t = r.get("thousand")
     if t:
@@ -51,3 +56,8 @@ def markdown(r: dict) -> str:
                   f"{t['ms_per_frame']} ms per frame of {t['substeps_per_frame']} substeps = **{t['fps']} frames per "
                   "second** (engine only, headless, no drawing).", ""]
     return "\n".join(lines)
+
+
+def _get(point: dict, key: str, spec: str = "") -> str:
+    """A scaling point's value, or "–" where an older run did not measure it."""
+    return format(point[key], spec) if key in point else "–"

@@ -65,12 +65,16 @@ def _bench(doc, out: Path, bench: dict | None) -> None:
     scaling = bench.get("scaling") or []
     if (out / "figures" / "many_scaling.png").exists():
         doc.image(out / "figures" / "many_scaling.png",
-                  "Cost per substep against particle count, 125 volume-sampled spheres (bench_many.py).",
+                  "Cost per substep against particle count, 125 volume-sampled spheres, falling and in "
+                  "contact (bench_many.py).",
                   width_cm=11)
     if scaling:
-        doc.table(["particles", "path", "µs/substep", "ns per particle-substep"],
-                  [[f"{p['particles']:,}", p["path"], f"{p['us_per_substep']:,.0f}",
-                    f"{p['ns_per_particle_substep']:.0f}"] for p in scaling])
+        doc.table(["particles", "path", "µs/substep falling", "ns per particle-substep", "µs/substep in contact",
+                   "ns per particle-substep"],
+                  [[f"{p['particles']:,}", p["path"], f"{p['us_per_substep']:,.0f}", f"{p['ns_per_particle_substep']:.0f}",
+                    f"{p['contact_us_per_substep']:,.0f}" if "contact_us_per_substep" in p else "–",
+                    f"{p['contact_ns_per_particle_substep']:.0f}" if "contact_us_per_substep" in p else "–"]
+                   for p in scaling])
 
 
 def _rise(rise: float) -> str:
