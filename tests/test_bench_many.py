@@ -15,6 +15,6 @@ def test_bench_many_quick(tmp_path):
     assert {"cpu_count", "loadavg_1_5_15"} <= set(report["machine"])
     assert {"engine_us_per_substep", "particles", "mujoco_version"} <= set(report["pile_27"])
     assert report["scaling"] and {"particles", "us_per_substep", "contact_us_per_substep", "path"} <= set(report["scaling"][0])
-    assert {"fps", "particles", "bodies"} <= set(report["thousand"])
+    assert {"fps", "contact_fps", "particles", "bodies"} <= set(report["thousand"])
     assert (tmp_path / "bench_many.md").read_text().startswith("# Many-body benchmark")
     assert (tmp_path / "figures" / "many_scaling.png").stat().st_size > 0

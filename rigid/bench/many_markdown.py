@@ -54,7 +54,11 @@ def markdown(r: dict) -> str:
         lines += ["## 1,000 bodies", "",
                   f"{t['bodies']:,} volume spheres (scale {t['scale']}, grid {t['grid']}), {t['particles']:,} particles: "
                   f"{t['ms_per_frame']} ms per frame of {t['substeps_per_frame']} substeps = **{t['fps']} frames per "
-                  "second** (engine only, headless, no drawing).", ""]
+                  "second** while they fall (frames 3-17, the pile forming in the last repeats: "
+                  f"{', '.join(map(str, t.get('fps_repeats', [])))}), "
+                  + (f"**{t['contact_fps']}** in contact (frames 61-66, {t['contact_ms_per_frame']} ms a frame)"
+                     if "contact_fps" in t else "in contact not measured")
+                  + " (engine only, headless, no drawing).", ""]
     return "\n".join(lines)
 
 

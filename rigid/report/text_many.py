@@ -50,9 +50,11 @@ def _bench(doc, out: Path, bench: dict | None) -> None:
         items.append(f"a 125-sphere pile: the engine takes **{ratio:.2f}×** MuJoCo's time per step "
                      f"({1 / ratio:.1f} times as fast as MuJoCo);")
     if thousand:
-        items.append(f"1,000 bodies: **{thousand['fps']:.1f}** frames per second "
-                     f"({thousand['particles']:,} particles, {thousand['ms_per_frame']:.0f} ms per frame of "
-                     f"{thousand['substeps_per_frame']} substeps, engine only, no drawing).")
+        contact = (f", **{thousand['contact_fps']:.1f}** in contact (from 1 s, "
+                   f"{thousand['contact_ms_per_frame']:.0f} ms a frame)" if "contact_fps" in thousand else "")
+        items.append(f"1,000 bodies: **{thousand['fps']:.1f}** frames per second while they fall"
+                     f"{contact} ({thousand['particles']:,} particles, {thousand['substeps_per_frame']} substeps "
+                     "a frame, engine only, no drawing).")
     doc.bullets(items)
     rows = [[f"{r['bodies']}", f"{r['particles']:,}", f"{r['engine_us_per_substep']:,.0f}",
              f"{r['mujoco_us_per_step']:,.0f}", f"{r['ratio_engine_over_mujoco']:.2f}"]
