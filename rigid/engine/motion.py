@@ -67,8 +67,8 @@ def note_motion(scratch: ti.template(), state: ti.template()):
     Δx, used before, left nearly all of it to the fallers: 6-14 % more rebuilds in the benchmark
     piles). While the two largest e sum to at most the skin, no pair can have closed by more;
     else ``close_pairs_moved`` looks at the pairs of bodies near enough to touch. Each body's
-    e and a bound on its particles' distance from its centre are kept in its build_pose
-    (slots 13, 14) for that test. A NaN counts as moved (a rebuild at once)."""
+    e is kept in its build_pose (slot 13) for that test, and then only a bound on its
+    particles' distance from its centre (slot 14). A NaN counts as moved (a rebuild at once)."""
     B = state.x.shape[0]
     lo = ti.Vector([1e30, 1e30, 1e30], float)
     hi = -lo
@@ -83,10 +83,7 @@ def note_motion(scratch: ti.template(), state: ti.template()):
         e = (dx - c).norm() + turn
         if not (e <= 1e30):
             e = 1e30
-        pose = scratch.build_pose[b]
-        pose[13] = e
-        pose[14] = pose[12] * (1.0 + _defect(state.R[b])) * (1.0 + 1e-5)  # ‖R‖₂ <= 1 + ‖RᵀR − I‖_F
-        scratch.build_pose[b] = pose
+        scratch.build_pose[b][13] = e
         if e > first:
             second = first
             first = e
@@ -95,7 +92,9 @@ def note_motion(scratch: ti.template(), state: ti.template()):
     if first >= 1e30:
         scratch.nbr_flags[0] = 1
     elif first + second > scratch.grid_params[2] and scratch.nbr_flags[0] == 0:
-        scratch.nbr_flags[0] = MAYBE  # close_pairs_moved decides
+        scratch.nbr_flags[0] = MAYBE  # close_pairs_moved decides, with each body's reach:
+        for b in range(B):  # ‖R‖₂ <= 1 + ‖RᵀR − I‖_F (only then: most substeps end above)
+            scratch.build_pose[b][14] = scratch.build_pose[b][12] * (1.0 + _defect(state.R[b])) * (1.0 + 1e-5)
 
 
 @ti.func

@@ -26,9 +26,9 @@ body that does not rest has it in its lists, and [3 + B + b] .. [3 + B + b + 1] 
 active list, on one thread: pair_once.py; one array, as the x64 backend takes at most 64
 argument elements), ``grid_params`` [1], [2] = the skin, the relative motion allowed before a
 rebuild (the skin less 2 % for round-off); per body [B]: ``build_pose`` = its x (3) and R
-(9, row by row) at the last build, ρ_b, its largest |r0|, then (note_motion, each substep) e_b,
-the bound on its particles' motion since the build, and ρ'_b >= its particles' distance from
-its centre now (15 floats).
+(9, row by row) at the last build, ρ_b, its largest |r0|, then (motion.note_motion, each substep) e_b,
+the bound on its particles' motion since the build, and (when it asks close_pairs_moved)
+ρ'_b >= its particles' distance from its centre now (15 floats).
 """
 import taichi as ti
 

@@ -37,7 +37,7 @@ def make_scratch(model, config, pairs: bool, materials: bool):
 def build_pose(model) -> np.ndarray:
     """(B, 15) the neighbour lists' pose per body (set at each build), with ρ_b, the body's
     largest particle offset |r0| (rounded up), in slot 12; slots 13, 14 are note_motion's
-    (neighbours.py)."""
+    (motion.py)."""
     norms = np.linalg.norm(model.r0_np, axis=1)
     pose = np.zeros((model.num_bodies, 15))
     pose[:, 12] = [norms[s:s + c].max() * (1 + 1e-6) + 1e-9 for s, c in zip(model.body_start_np, model.body_count_np)]
