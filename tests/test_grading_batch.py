@@ -2,7 +2,8 @@
 
 Main batch (a folder of .py files, a subfolder and a zip): the solution scores
 90/90, the handout 0 on every TODO, each wrong variant loses exactly its
-TODO's points with a message naming the mistake, two correct-but-different
+TODO's points with a message naming the mistake (several variants to a file,
+on different TODOs: grading_variants.COMBINED), two correct-but-different
 variants score full marks, a print flood and writes to HOME cost nothing.
 Misbehaving batch (--timeout 10): a crash, a sys.exit, an endless loop at
 import, an endless loop inside TODO 6 and a memory hog each lose only their
@@ -30,7 +31,7 @@ import pytest
 
 import grading_original_variants as original
 from conftest import ROOT
-from grading_variants import CORRECT, SOLUTION, WRONG, make
+from grading_variants import COMBINED as MAIN_COMBINED, CORRECT, SOLUTION, WRONG, make
 from rigid.grading.handout import make_handout
 
 MISBEHAVING = ("crash_at_import", "exit_at_import", "hang_at_import", "hang_in_todo6", "memory_hog")
@@ -69,7 +70,7 @@ def batches(tmp_path_factory):
     main, bad, orig = base / "main", base / "bad", base / "original"
     for folder in (main, bad, orig):
         folder.mkdir()
-    for name in [*WRONG, "flood_and_writes", "t4_syntax_error"]:
+    for name in [*MAIN_COMBINED, "flood_and_writes", "t4_syntax_error"]:
         (main / f"{name}.py").write_text(make(name))
     (main / "solution.py").write_text(SOLUTION)
     (main / "handout.py").write_text(make_handout(SOLUTION))
@@ -86,7 +87,7 @@ def batches(tmp_path_factory):
     with zipfile.ZipFile(orig / "3035000002_dan_assignment3.zip", "w") as z:
         z.writestr("dan/rigid_body_dynamic.py", original.make("mistakes_b"))
         z.writestr("dan/dan_brick.obj", (ROOT / "assets" / "brick.obj").read_bytes())
-    checked = {n: main / f"{n}.py" for n in [*WRONG, "solution", "handout"]}  # for the self-check
+    checked = {n: main / f"{n}.py" for n in [*MAIN_COMBINED, "solution", "handout"]}  # for the self-check
     checked["bob_folder"] = nested / "rigid_body_dynamic.py"
     checked["3035123456_alice_assignment3"] = base / "alice.py"
     checked["3035123456_alice_assignment3"].write_text(make(CORRECT[0]))
@@ -122,13 +123,19 @@ def test_solution_full_handout_zero(batches):
     assert all("placeholder" in t["message"] for t in res["handout"]["todos"].values())
 
 
+def combined_file(name: str) -> str:
+    return next(file for file, parts in MAIN_COMBINED.items() if name in parts)
+
+
 @pytest.mark.parametrize("name", sorted(WRONG))
 def test_wrong_variant_loses_exactly_its_todo(batches, name):
     todo, words = WRONG[name]
-    r = batches["result"]["main"][name]
+    file = combined_file(name)
+    r = batches["result"]["main"][file]
     got = points(r)
+    lost = {WRONG[part][0] for part in MAIN_COMBINED[file]}
     assert got[todo] == 0 and not r["todos"][str(todo)]["passed"]
-    assert all(got[k] == r["todos"][str(k)]["max"] > 0 for k in got if k != todo), r["todos"]
+    assert all(got[k] == r["todos"][str(k)]["max"] > 0 for k in got if k not in lost), r["todos"]
     message = r["todos"][str(todo)]["message"]
     assert message.startswith(f"TODO {todo}:") and all(w in message for w in words), message
 
@@ -171,13 +178,14 @@ def test_misbehaving_submissions_lose_only_their_points_within_the_limit(batches
 def test_csv_has_a_row_per_submission_and_a_column_per_todo(batches):
     folder = batches["folders"]["main"]
     rows = list(csv.DictReader((folder / "grades.csv").open(encoding="utf-8")))
-    assert len(rows) == len(batches["result"]["main"]) == len(WRONG) + 6
+    assert len(rows) == len(batches["result"]["main"]) == len(MAIN_COMBINED) + 6
     assert list(rows[0]) == ["submission", "uid", "name", *(f"todo{k}" for k in range(1, 8)), "total",
                              "max_total", "feedback"]
     alice = next(r for r in rows if r["submission"].endswith(".zip"))
     assert (alice["uid"], alice["name"], alice["total"]) == ("3035123456", "alice", "90")
-    wrong = next(r for r in rows if r["submission"].endswith("t2_sign.py"))
-    assert (wrong["todo2"], wrong["total"]) == ("0", "80") and "TODO 2" in wrong["feedback"]
+    wrong = next(r for r in rows if r["submission"].endswith(f"{combined_file('t2_sign')}.py"))  # TODOs 2, 4, 6 lost
+    assert (wrong["todo1"], wrong["todo2"], wrong["todo4"], wrong["todo6"], wrong["total"]) == ("15", "0", "0", "0", "50")
+    assert all(f"TODO {k}" in wrong["feedback"] for k in (2, 4, 6)) and "TODO 1" not in wrong["feedback"]
     assert "points per TODO" in batches["stdout"]["main"] and "total 90" in batches["stdout"]["main"]
     print(f"three batches ({len(rows)} + {len(MISBEHAVING)} + {len(ORIGINAL) + 1} submissions): "
           f"{batches['elapsed']:.1f} s")
@@ -235,7 +243,7 @@ def test_self_check_agrees_with_grade_py(batches):
     """--check's verdicts (rigid.grading.selfcheck, on the answers file beside the solution; run by
     tests/grading_selfcheck_worker.py beside the batches) equal grade.py's on every file both saw."""
     res = batches["result"]["main"]
-    assert len(batches["selfcheck"]) == len(WRONG) + 4
+    assert len(batches["selfcheck"]) == len(MAIN_COMBINED) + 4
     for name, mine in batches["selfcheck"].items():
         theirs = res[name]["todos"]
         assert not mine["joint"], (name, mine["joint"])
