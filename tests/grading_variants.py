@@ -97,6 +97,7 @@ COMBINED = {
     "mistakes_246_b": ("t2_sign", "t4_unrotated", "t6_no_renormalisation"),
 }
 assert sorted(n for parts in COMBINED.values() for n in parts) == sorted(WRONG)
+assert all(len({WRONG[n][0] for n in parts}) == len(parts) for parts in COMBINED.values())  # a TODO each
 
 # Whole-file additions: processes that misbehave (appended after the solution).
 APPENDED = {

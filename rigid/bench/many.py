@@ -150,9 +150,9 @@ def grid_for(target: int, count: int, top: int = 40) -> int:
 CONTACT_FRAME = 60  # the "in contact" window starts 1 s in: every sphere has landed on the pile
 
 
-def _step_until(sim, frames_run: int, frame: int) -> None:
-    """Step ``sim``, ``frames_run`` frames in (the build's first, warm-ups, timed repeats), up to ``frame``."""
-    for _ in range(frame - frames_run):
+def _step_until(sim, frame: int) -> None:
+    """Step ``sim`` up to ``frame`` (``sim.frame`` counts every step_frame: the build's, warm-ups, repeats)."""
+    while sim.frame < frame:
         sim.step_frame()
 
 
@@ -168,7 +168,7 @@ def scaling(units, targets, max_build_s: float) -> list[dict]:
         n_p = sim.model.num_particles
         falling = time_steps(sim.step_frame, ti.sync, 0, 2, 3, 16)  # frames 2-7 (the build ran frame 1)
         start = time.perf_counter()
-        _step_until(sim, 1 + 2 * 3, CONTACT_FRAME)
+        _step_until(sim, CONTACT_FRAME)
         ti.sync()
         settle_s = time.perf_counter() - start
         contact = time_steps(sim.step_frame, ti.sync, 0, 2, 3, 16)
@@ -195,7 +195,7 @@ def thousand(units, quick: bool) -> dict:
     frames, reps = (2, 1) if quick else (5, 3)
     t = time_steps(sim.step_frame, ti.sync, 2, frames, reps, 16)
     frame_s = statistics.median(t) * 16
-    _step_until(sim, 1 + 2 + frames * reps, CONTACT_FRAME)
+    _step_until(sim, CONTACT_FRAME)
     contact = time_steps(sim.step_frame, ti.sync, 0, 2, 1 if quick else 3, 16)
     contact_s = statistics.median(contact) * 16
     return dict(bodies=count, particles=sim.model.num_particles, grid=grid, scale=0.05, substeps_per_frame=16,
