@@ -16,9 +16,9 @@ def raster(ti_cpu):
 def vec_field(points):
     import taichi as ti
 
-    field = ti.Vector.field(3, ti.f32, shape=len(points))
-    field.from_numpy(np.asarray(points, np.float32))
-    return field
+    out = ti.Vector.ndarray(3, ti.f32, shape=len(points))
+    out.from_numpy(np.asarray(points, np.float32))
+    return out
 
 
 def square(z, half=1.0):
@@ -102,7 +102,7 @@ import numpy as np, taichi as ti
 from rigid.runtime import init_taichi
 init_taichi("cpu", fp64=True)
 from rigid.view.raster import Rasterizer
-points = ti.Vector.field(3, ti.f64, shape=6)
+points = ti.Vector.ndarray(3, ti.f64, shape=6)
 points.from_numpy(np.array([(-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, -1, 0), (1, 1, 0), (-1, 1, 0)], float))
 raster = Rasterizer(32, 24)
 raster.begin((0.0, 0.0, 3.0), (0.0, 0.0, 0.0))
@@ -115,7 +115,8 @@ print((raster.read_rgba()[..., :3] != 255).sum())
 
 
 def test_float64_fields_draw_without_precision_warnings(tmp_path):
-    """--fp64 makes Taichi's float literals f64; the renderer still stores f32 (it crashed before)."""
+    """--fp64 makes Taichi's float literals f64; the renderer still stores f32 (it crashed before), and
+    takes float64 arrays."""
     import os
     import subprocess
     import sys

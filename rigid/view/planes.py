@@ -28,7 +28,7 @@ def plane_square(point, normal, half: float = HALF_SIZE) -> np.ndarray:
 
 
 class PlaneDrawing:
-    """Fields for the planes' triangles and outlines; ``draw(raster)`` adds them to a frame."""
+    """Arrays of the planes' triangles and outlines; ``draw(raster)`` adds them to a frame."""
 
     def __init__(self, planes):
         tris, normals, lines = [], [], []
@@ -53,6 +53,7 @@ def plane_drawing(sim):
 
 
 def _field(rows):
-    field = ti.Vector.field(3, ti.f32, shape=len(rows))
-    field.from_numpy(np.asarray(rows, np.float32).reshape(-1, 3))
-    return field
+    """A vec3 f32 ndarray of the rows (the rasteriser's kernels take ndarrays)."""
+    out = ti.Vector.ndarray(3, ti.f32, shape=len(rows))
+    out.from_numpy(np.asarray(rows, np.float32).reshape(-1, 3))
+    return out

@@ -4,8 +4,12 @@
 
 ``VertexNormals``: each vertex's normal is the normalised sum of the area-weighted normals of
 the faces around it, recomputed each frame. The faces around each vertex are listed once
-(numpy, from the index field) so the sum runs in the same order every frame: no float
+(numpy, from the index array) so the sum runs in the same order every frame: no float
 atomics, the same picture on every run.
+
+All of it is Taichi ndarrays, taken by the kernels as arguments: the kernels compile once per
+process (per element type), not once per renderer, mesh or larger triangle list, as kernels
+that capture fields do.
 """
 # (no "from __future__ import annotations": Taichi reads the kernels' annotations as objects)
 
@@ -13,35 +17,36 @@ import numpy as np
 import taichi as ti
 
 
-@ti.data_oriented
 class Triangles:
     """Room for ``capacity`` triangles, 3 vertices each: screen x, y, depth key and 1/distance
-    (``vs``), world normal (``vn``), world position (``vp``), colour (``vc``); a kind per triangle.
-
-    Kernels take it as a template argument: a bigger one is a new object, so they are compiled
-    again for it (a kernel keeps the fields it was compiled with, even if an attribute changes).
-    """
+    (``vs`` [3C] vec4 f32), world normal (``vn``), world position (``vp``), colour (``vc``), each
+    [3C] vec3 f32; a kind per triangle (``kind`` [C] i32). A fuller frame gets a new, larger one
+    holding the first ``keep`` triangles of the ``old``."""
 
     def __init__(self, capacity: int, old=None, keep: int = 0):
         self.capacity = int(capacity)
-        self.vs = ti.Vector.field(4, ti.f32, shape=3 * self.capacity)
-        self.vn = ti.Vector.field(3, ti.f32, shape=3 * self.capacity)
-        self.vp = ti.Vector.field(3, ti.f32, shape=3 * self.capacity)
-        self.vc = ti.Vector.field(3, ti.f32, shape=3 * self.capacity)
-        self.kind = ti.field(ti.i32, shape=self.capacity)
+        self.vs = ti.Vector.ndarray(4, ti.f32, shape=3 * self.capacity)
+        self.vn = ti.Vector.ndarray(3, ti.f32, shape=3 * self.capacity)
+        self.vp = ti.Vector.ndarray(3, ti.f32, shape=3 * self.capacity)
+        self.vc = ti.Vector.ndarray(3, ti.f32, shape=3 * self.capacity)
+        self.kind = ti.ndarray(ti.i32, shape=self.capacity)
         if old is not None and keep:
             for name in ("vs", "vn", "vp", "vc"):
                 _copy_prefix(getattr(self, name), getattr(old, name), 3 * keep)
             _copy_prefix(self.kind, old.kind, keep)
 
+    @property
+    def arrays(self) -> tuple:
+        """(vs, vn, vp, vc, kind), in the order the kernels take them."""
+        return self.vs, self.vn, self.vp, self.vc, self.kind
 
-@ti.data_oriented
+
 class VertexNormals:
     def __init__(self):
         self._cache = {}  # id(vertices), id(indices) -> (vertices, indices, offsets, faces, normals)
 
     def of(self, vertices, indices):
-        """The normals field (V,) vec3 f32 for this frame's ``vertices`` and the fixed ``indices``."""
+        """The normals (V,) vec3 f32 ndarray for this frame's ``vertices`` and the fixed ``indices``."""
         key = (id(vertices), id(indices))
         entry = self._cache.get(key)
         if entry is None:
@@ -52,22 +57,21 @@ class VertexNormals:
 
 
 def _adjacency(idx: np.ndarray, num_vertices: int):
-    """Faces around each vertex as fields: offsets (V+1,) into faces (3F,), and the normals field."""
+    """Faces around each vertex: offsets (V+1,) into faces (3F,), and the normals' ndarray."""
     idx = idx.reshape(-1).astype(np.int64)
     face_of = np.repeat(np.arange(len(idx) // 3), 3)
     order = np.argsort(idx, kind="stable")
     counts = np.bincount(idx, minlength=num_vertices)
-    offsets = np.concatenate([[0], np.cumsum(counts)]).astype(np.int32)
-    offsets_field = ti.field(ti.i32, shape=num_vertices + 1)
-    offsets_field.from_numpy(offsets)
-    faces_field = ti.field(ti.i32, shape=max(1, len(idx)))
-    faces_field.from_numpy(face_of[order].astype(np.int32) if len(idx) else np.zeros(1, np.int32))
-    return offsets_field, faces_field, ti.Vector.field(3, ti.f32, shape=num_vertices)
+    offsets = ti.ndarray(ti.i32, shape=num_vertices + 1)
+    offsets.from_numpy(np.concatenate([[0], np.cumsum(counts)]).astype(np.int32))
+    faces = ti.ndarray(ti.i32, shape=max(1, len(idx)))
+    faces.from_numpy(face_of[order].astype(np.int32) if len(idx) else np.zeros(1, np.int32))
+    return offsets, faces, ti.Vector.ndarray(3, ti.f32, shape=num_vertices)
 
 
 @ti.kernel
-def _smooth_normals(verts: ti.template(), idx: ti.template(), offsets: ti.template(), faces: ti.template(),
-                    out: ti.template()):
+def _smooth_normals(verts: ti.types.ndarray(), idx: ti.types.ndarray(), offsets: ti.types.ndarray(),
+                    faces: ti.types.ndarray(), out: ti.types.ndarray()):
     for v in range(out.shape[0]):
         total = ti.Vector([0.0, 0.0, 0.0], ti.f32)
         for j in range(offsets[v], offsets[v + 1]):
@@ -80,7 +84,7 @@ def _smooth_normals(verts: ti.template(), idx: ti.template(), offsets: ti.templa
 
 
 @ti.kernel
-def _copy_prefix(dst: ti.template(), src: ti.template(), n: ti.i32):
+def _copy_prefix(dst: ti.types.ndarray(), src: ti.types.ndarray(), n: ti.i32):
     for i in range(n):
         dst[i] = src[i]
 

@@ -1,6 +1,6 @@
 """The scene: the body's mesh, a checkered floor and the wire box (or a grid), a light, a camera.
 
-The engine never imports ``ti.ui``; this module copies what it draws into fields of
+The engine never imports ``ti.ui``; this module copies what it draws into ndarrays of
 its own (the meshes' world vertices from ``sim.surface_positions()``, their triangles
 from ``sim.model.faces_np``, floor tiles, box edges, grid), as Taichi's
 ``mass_spring_3d_ggui.py`` does. The picture is drawn by ``raster.Rasterizer``
@@ -60,18 +60,18 @@ class SceneRenderer:
         self.orbit = self.camera.orbit  # the mouse orbits it; follow moves its target
         self.wireframe = False
         self.spring = None  # (from, to): the mouse's grab, drawn as a line (grab.py)
-        self._spring_line = ti.Vector.field(3, ti.f32, shape=2)
+        self._spring_line = ti.Vector.ndarray(3, ti.f32, shape=2)
         self._build_box(float(sim.params.floor), float(sim.params.wall))
         self.planes = plane_drawing(sim)  # [[plane]] tables (planes.py)
         m = sim.model
-        self.surface = ti.Vector.field(3, ti.f32, shape=max(m.num_surface, 1))
-        self.indices = ti.field(ti.i32, shape=max(3 * m.num_faces, 3))
+        self.surface = ti.Vector.ndarray(3, ti.f32, shape=max(m.num_surface, 1))
+        self.indices = ti.ndarray(ti.i32, shape=max(3 * m.num_faces, 3))
         if m.num_faces:
             self.indices.from_numpy(m.faces_np.reshape(-1).astype(np.int32))
         # Closed meshes wound outwards (the assets) skip their back faces: half the triangles.
         self.cull_back = bool(m.num_faces) and closed_and_outward(
             np.concatenate(m.surfaces_np), m.faces_np, m.surface_body_np[m.faces_np[:, 0]])
-        self.particles = ti.Vector.field(3, ti.f32, shape=m.num_particles)
+        self.particles = ti.Vector.ndarray(3, ti.f32, shape=m.num_particles)
         self.vertex_colors = self.particle_colors = None
         self.grey_sleepers = True  # sleeping bodies (rigid.engine.sleep) drawn greyer; the panel toggles it
         self._shown_asleep = None
@@ -197,6 +197,7 @@ def body_palette(num_bodies: int) -> np.ndarray:
 
 
 def _vec_field(array: np.ndarray):
-    field = ti.Vector.field(3, ti.f32, shape=len(array))
-    field.from_numpy(array.astype(np.float32))
-    return field
+    """A vec3 f32 ndarray of ``array`` (N, 3): the rasteriser's kernels take ndarrays (raster.py)."""
+    out = ti.Vector.ndarray(3, ti.f32, shape=len(array))
+    out.from_numpy(array.astype(np.float32))
+    return out

@@ -21,17 +21,17 @@ FADE = 0.6  # m: the shadow's darkness falls as 1 / (1 + h / FADE), h the lowest
 CUTOFF = 12.0  # Mahalanobis² beyond which a body's factor is 1 (exp(-6) ~ 0.25 %)
 
 
-@ti.data_oriented
 class ContactShadows:
     def __init__(self, num_bodies: int, floor: float, half_width: float, points=None, counts=None):
         """``points`` (V, 3) and ``counts`` (B,): the drawn points of each body, in its own frame
         about its centre of mass (body after body); their mean and covariance there give the
-        footprint, turned with the body every frame (no per-vertex work per frame)."""
+        footprint, turned with the body every frame (no per-vertex work per frame). Its arrays
+        are ndarrays, so its kernels compile once per process, whatever the scene."""
         self.floor, self.half = float(floor), float(half_width)
-        self.shade = ti.field(ti.f32, shape=(SIZE, SIZE))
+        self.shade = ti.ndarray(ti.f32, shape=(SIZE, SIZE))
         # per body: mean x, mean z, inverse covariance (xx, xz, zz), darkness, cell box (i0, i1, k0, k1)
-        self.blobs = ti.Vector.field(10, ti.f32, shape=max(1, num_bodies))
-        self.box = ti.Vector.field(3, ti.f32, shape=1)  # x0, z0, cells per metre
+        self.blobs = ti.Vector.ndarray(10, ti.f32, shape=max(1, num_bodies))
+        self.box = ti.Vector.ndarray(3, ti.f32, shape=1)  # x0, z0, cells per metre
         self.box.from_numpy(np.array([[-self.half, -self.half, SIZE / (2.0 * self.half)]], np.float32))
         self.num_bodies = num_bodies
         points = np.asarray(points, np.float64).reshape(-1, 3)
@@ -40,8 +40,8 @@ class ContactShadows:
         mean0 = np.add.reduceat(points, starts) / n  # (B, 3) in the body frame
         rel = points - np.repeat(mean0, counts, axis=0)
         cov0 = np.add.reduceat(rel[:, :, None] * rel[:, None, :], starts) / n[:, :, None]  # (B, 3, 3)
-        self.mean0 = ti.Vector.field(3, ti.f32, shape=max(1, num_bodies))
-        self.cov0 = ti.Matrix.field(3, 3, ti.f32, shape=max(1, num_bodies))
+        self.mean0 = ti.Vector.ndarray(3, ti.f32, shape=max(1, num_bodies))
+        self.cov0 = ti.Matrix.ndarray(3, 3, ti.f32, shape=max(1, num_bodies))
         self.mean0.from_numpy(mean0.astype(np.float32))
         self.cov0.from_numpy(cov0.astype(np.float32))
 
@@ -49,59 +49,62 @@ class ContactShadows:
         """Recompute the floor's shade for bodies at centres ``x`` (an ndarray of B vec3, e.g. the
         simulator's ``state.x``), rotations ``R`` (B mat3, ``state.R``): read on the device, no copy
         to the host."""
-        self._blobs(x, R, self.mean0, self.cov0, self.num_bodies)
-        self._shade(self.num_bodies)
+        _blobs(x, R, self.mean0, self.cov0, self.blobs, self.num_bodies, self.floor, self.half)
+        _shade(self.shade, self.box, self.blobs, self.num_bodies)
 
-    @ti.kernel
-    def _blobs(self, x: ti.types.ndarray(), R: ti.types.ndarray(), mean0: ti.template(), cov0: ti.template(),
-               num_bodies: ti.i32):
-        half = self.half
-        cells = SIZE / (2.0 * half)
+
+@ti.kernel
+def _blobs(x: ti.types.ndarray(), R: ti.types.ndarray(), mean0: ti.types.ndarray(), cov0: ti.types.ndarray(),
+           blobs: ti.types.ndarray(), num_bodies: ti.i32, floor: ti.f32, half: ti.f32):
+    cells = SIZE / (2.0 * half)
+    for b in range(num_bodies):
+        rot = ti.cast(R[b], ti.f32)
+        mean = ti.cast(x[b], ti.f32) + rot @ mean0[b]
+        cov = rot @ cov0[b] @ rot.transpose()
+        # The lowest point, as for a uniform spread: the mean less √3 standard deviations
+        # (exact for a sphere's surface), never below the floor.
+        height = ti.max(mean[1] - ti.sqrt(3.0 * ti.max(cov[1, 1], 0.0)) - floor, 0.0)
+        blur = ti.min(BLUR * height + 0.01, MAX_BLUR) ** 2  # (and a small box of cells for each body)
+        sxx, szz, sxz = cov[0, 0] + blur, cov[2, 2] + blur, cov[0, 2]
+        det = ti.max(sxx * szz - sxz * sxz, 1e-12)
+        # The cells where the factor matters: |d_x| <= sqrt(CUTOFF sxx), likewise in z.
+        rx, rz = ti.sqrt(CUTOFF * sxx) * cells, ti.sqrt(CUTOFF * szz) * cells
+        ci, ck = (mean[0] + half) * cells, (mean[2] + half) * cells
+        box = ti.math.clamp(ti.Vector([ci - rx, ci + rx, ck - rz, ck + rz]), -1.0, SIZE * 1.0)
+        blobs[b] = ti.Vector([mean[0], mean[2], szz / det, -sxz / det, sxx / det,
+                              DARKEST / (1.0 + height / FADE), box[0], box[1], box[2], box[3]], ti.f32)
+
+
+@ti.kernel
+def _shade(shade: ti.types.ndarray(), boxes: ti.types.ndarray(), blobs: ti.types.ndarray(), num_bodies: ti.i32):
+    box = boxes[0]
+    for i, k in ti.ndrange(SIZE, SIZE):  # cells in parallel; in each, the bodies in order (the same product every run)
+        light = 1.0
         for b in range(num_bodies):
-            rot = ti.cast(R[b], ti.f32)
-            mean = ti.cast(x[b], ti.f32) + rot @ mean0[b]
-            cov = rot @ cov0[b] @ rot.transpose()
-            # The lowest point, as for a uniform spread: the mean less √3 standard deviations
-            # (exact for a sphere's surface), never below the floor.
-            height = ti.max(mean[1] - ti.sqrt(3.0 * ti.max(cov[1, 1], 0.0)) - self.floor, 0.0)
-            blur = ti.min(BLUR * height + 0.01, MAX_BLUR) ** 2  # (and a small box of cells for each body)
-            sxx, szz, sxz = cov[0, 0] + blur, cov[2, 2] + blur, cov[0, 2]
-            det = ti.max(sxx * szz - sxz * sxz, 1e-12)
-            # The cells where the factor matters: |d_x| <= sqrt(CUTOFF sxx), likewise in z.
-            rx, rz = ti.sqrt(CUTOFF * sxx) * cells, ti.sqrt(CUTOFF * szz) * cells
-            ci, ck = (mean[0] + half) * cells, (mean[2] + half) * cells
-            box = ti.math.clamp(ti.Vector([ci - rx, ci + rx, ck - rz, ck + rz]), -1.0, SIZE * 1.0)
-            self.blobs[b] = ti.Vector([mean[0], mean[2], szz / det, -sxz / det, sxx / det,
-                                       DARKEST / (1.0 + height / FADE), box[0], box[1], box[2], box[3]], ti.f32)
+            blob = blobs[b]
+            if blob[6] <= i and i <= blob[7] and blob[8] <= k and k <= blob[9]:
+                dx = box[0] + (i + 0.5) / box[2] - blob[0]
+                dz = box[1] + (k + 0.5) / box[2] - blob[1]
+                q = blob[2] * dx * dx + 2.0 * blob[3] * dx * dz + blob[4] * dz * dz
+                if q < CUTOFF:
+                    light *= 1.0 - blob[5] * ti.exp(-0.5 * q)
+        shade[i, k] = light
 
-    @ti.kernel
-    def _shade(self, num_bodies: ti.i32):
-        box = self.box[0]
-        for i, k in self.shade:  # cells in parallel; in each, the bodies in order (the same product every run)
-            light = 1.0
-            for b in range(num_bodies):
-                blob = self.blobs[b]
-                if blob[6] <= i and i <= blob[7] and blob[8] <= k and k <= blob[9]:
-                    dx = box[0] + (i + 0.5) / box[2] - blob[0]
-                    dz = box[1] + (k + 0.5) / box[2] - blob[1]
-                    q = blob[2] * dx * dx + 2.0 * blob[3] * dx * dz + blob[4] * dz * dz
-                    if q < CUTOFF:
-                        light *= 1.0 - blob[5] * ti.exp(-0.5 * q)
-            self.shade[i, k] = light
 
-    @ti.func
-    def at(self, p):
-        """The shade at world point p on the floor (bilinear between cell centres; 1 off the grid)."""
-        box = self.box[0]
-        u = (p[0] - box[0]) * box[2] - 0.5
-        v = (p[2] - box[1]) * box[2] - 0.5
-        i0 = ti.cast(ti.floor(u), ti.i32)
-        k0 = ti.cast(ti.floor(v), ti.i32)
-        fu, fv = u - i0, v - k0
-        total = 0.0
-        for di, dk in ti.static(ti.ndrange(2, 2)):
-            i = ti.min(ti.max(i0 + di, 0), SIZE - 1)
-            k = ti.min(ti.max(k0 + dk, 0), SIZE - 1)
-            weight = (fu if di else 1.0 - fu) * (fv if dk else 1.0 - fv)
-            total += weight * self.shade[i, k]
-        return total
+@ti.func
+def shade_at(shade: ti.template(), boxes: ti.template(), p):
+    """The shade (ContactShadows' ``shade``, ``box``) at world point p on the floor (bilinear
+    between cell centres; 1 off the grid)."""
+    box = boxes[0]
+    u = (p[0] - box[0]) * box[2] - 0.5
+    v = (p[2] - box[1]) * box[2] - 0.5
+    i0 = ti.cast(ti.floor(u), ti.i32)
+    k0 = ti.cast(ti.floor(v), ti.i32)
+    fu, fv = u - i0, v - k0
+    total = 0.0
+    for di, dk in ti.static(ti.ndrange(2, 2)):
+        i = ti.min(ti.max(i0 + di, 0), SIZE - 1)
+        k = ti.min(ti.max(k0 + dk, 0), SIZE - 1)
+        weight = (fu if di else 1.0 - fu) * (fv if dk else 1.0 - fv)
+        total += weight * shade[i, k]
+    return total
