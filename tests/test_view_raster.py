@@ -14,11 +14,9 @@ def raster(ti_cpu):
 
 
 def vec_field(points):
-    import taichi as ti
+    from rigid.view.raster_data import vec3_array
 
-    out = ti.Vector.ndarray(3, ti.f32, shape=len(points))
-    out.from_numpy(np.asarray(points, np.float32))
-    return out
+    return vec3_array(points)
 
 
 def square(z, half=1.0):

@@ -7,7 +7,8 @@ floor or a ceiling shows where bodies meet it. The box is drawn by render.py as 
 from __future__ import annotations
 
 import numpy as np
-import taichi as ti
+
+from .raster_data import vec3_array
 
 PLANE_COLOR = (0.62, 0.7, 0.62)
 EDGE_COLOR = (0.3, 0.38, 0.3)
@@ -37,9 +38,9 @@ class PlaneDrawing:
             tris += [c[0], c[1], c[2], c[0], c[2], c[3]]
             normals += [plane["normal"]] * 6
             lines += [c[0], c[1], c[1], c[2], c[2], c[3], c[3], c[0]]
-        self.vertices = _field(tris)
-        self.normals = _field(normals)
-        self.lines = _field(lines)
+        self.vertices = vec3_array(tris)
+        self.normals = vec3_array(normals)
+        self.lines = vec3_array(lines)
 
     def draw(self, raster) -> None:
         raster.mesh(self.vertices, normals=self.normals, color=PLANE_COLOR, two_sided=True)
@@ -50,10 +51,3 @@ def plane_drawing(sim):
     """A PlaneDrawing of the simulator's [[plane]] tables, or None if it has none."""
     planes = getattr(sim.config, "planes", ())
     return PlaneDrawing(planes) if planes else None
-
-
-def _field(rows):
-    """A vec3 f32 ndarray of the rows (the rasteriser's kernels take ndarrays)."""
-    out = ti.Vector.ndarray(3, ti.f32, shape=len(rows))
-    out.from_numpy(np.asarray(rows, np.float32).reshape(-1, 3))
-    return out

@@ -26,6 +26,7 @@ primitives in are in raster_emit.py; those that make pixels, here.
 """
 # (no "from __future__ import annotations": Taichi reads the kernels' annotations as objects)
 
+import functools
 import math
 
 import numpy as np
@@ -85,11 +86,11 @@ class Rasterizer:
             normals = self._normals.of(vertices, indices)
         base = self._reserve(n)
         kind = RECEIVER if receives_shadow else FRONT if cull_back else LIT_TWO_SIDED if two_sided else LIT
-        _emit_mesh(*self._out(), base, n, vertices, *_optional(indices, _NO_INDICES), *_optional(normals),
+        _emit_mesh(*self._out(), base, n, vertices, *_optional(indices, "i"), *_optional(normals),
                    *_optional(per_vertex_color), vec3(*color), kind)
         if show_wireframe:
             base = self._reserve(6 * n)
-            _emit_edges(*self._out(), base, n, vertices, *_optional(indices, _NO_INDICES),
+            _emit_edges(*self._out(), base, n, vertices, *_optional(indices, "i"),
                         self._line_half_width(1.0), vec3(WIRE_COLOR))
 
     def lines(self, vertices, width=2.0, color=(0.3, 0.3, 0.3)) -> None:
@@ -109,7 +110,7 @@ class Rasterizer:
         ``shadows`` (shadow.ContactShadows) darkens the triangles drawn with ``receives_shadow``."""
         t = self.tris
         _raster(t.vs, t.kind, self.key, self.width, self.height, self.count)
-        shade, box = (shadows.shade, shadows.box) if shadows is not None else _no_shadows()
+        shade, box = (shadows.shade, shadows.box) if shadows is not None else _stand_in("shade")
         _resolve(*t.arrays, self.key, self.cam, self.rgba, self.image if self.window else 0, self.window,
                  shade, box, shadows is not None)
 
@@ -135,28 +136,20 @@ class Rasterizer:
         return 0.5 * max(1.0, width * self.height / 720.0)
 
 
-_DUMMIES: dict = {}
-
-
-def _dummy(kind: str):
-    """A one-element ndarray standing for an absent input (the kernels test a flag, never read it)."""
-    if kind not in _DUMMIES:
-        _DUMMIES[kind] = ti.ndarray(ti.i32, shape=1) if kind == "i" else ti.Vector.ndarray(3, ti.f32, shape=1)
-    return _DUMMIES[kind]
-
-
-_NO_INDICES = "i"
+@functools.cache
+def _stand_in(kind: str):
+    """One-element ndarrays standing for an absent input (the kernels test a flag, never read them):
+    "i" indices, "v" vec3 data, "shade" the shadows' (shade, box)."""
+    if kind == "i":
+        return ti.ndarray(ti.i32, shape=1)
+    if kind == "v":
+        return ti.Vector.ndarray(3, ti.f32, shape=1)
+    return ti.ndarray(ti.f32, shape=(1, 1)), ti.Vector.ndarray(3, ti.f32, shape=1)
 
 
 def _optional(array, kind: str = "v"):
     """(array, True), or a stand-in and False: Taichi kernels take no None."""
-    return (array, True) if array is not None else (_dummy(kind), False)
-
-
-def _no_shadows():
-    if "shade" not in _DUMMIES:
-        _DUMMIES["shade"] = (ti.ndarray(ti.f32, shape=(1, 1)), ti.Vector.ndarray(3, ti.f32, shape=1))
-    return _DUMMIES["shade"]
+    return (array, True) if array is not None else (_stand_in(kind), False)
 
 
 # ---- kernels: pixels out ----------------------------------------------------------------

@@ -17,6 +17,14 @@ import numpy as np
 import taichi as ti
 
 
+def vec3_array(rows) -> "ti.Ndarray":
+    """Rows (N, 3) as the (N,) vec3 f32 ndarray the rasteriser's kernels take."""
+    rows = np.asarray(rows, np.float32).reshape(-1, 3)
+    out = ti.Vector.ndarray(3, ti.f32, shape=len(rows))
+    out.from_numpy(rows)
+    return out
+
+
 class Triangles:
     """Room for ``capacity`` triangles, 3 vertices each: screen x, y, depth key and 1/distance
     (``vs`` [3C] vec4 f32), world normal (``vn``), world position (``vp``), colour (``vc``), each

@@ -20,7 +20,7 @@ from .camera import SceneCamera
 from .panel import PANEL_TITLE
 from .planes import plane_drawing
 from .raster import Rasterizer
-from .raster_data import closed_and_outward
+from .raster_data import closed_and_outward, vec3_array
 from .shadow import ContactShadows
 from .vulkan import INSTALL_HINT, require_vulkan
 
@@ -78,8 +78,8 @@ class SceneRenderer:
         if sim.many:  # each body its own colour (body_palette)
             self.palette = body_palette(m.num_bodies)
             self.palette[m.static_np] = STATIC_COLOR  # [[static]] meshes: the scenery, not a body's hue
-            self.vertex_colors = _vec_field(self.palette[m.surface_body_np]) if m.num_surface else None
-            self.particle_colors = _vec_field(self.palette[sim.particle_bodies()])
+            self.vertex_colors = vec3_array(self.palette[m.surface_body_np]) if m.num_surface else None
+            self.particle_colors = vec3_array(self.palette[sim.particle_bodies()])
         # Under each body a soft shadow on the floor (shadow.py); none without walls (no floor drawn).
         self.shadows = None
         if sim.params.walls:
@@ -99,21 +99,21 @@ class SceneRenderer:
                         (x0, floor, z0), (x1, floor, z1), (x0, floor, z1)]
                 vertices += quad
                 colors += [TILE_COLORS[(i + k) % 2]] * 6
-        self.floor_vertices = _vec_field(np.array(vertices))
-        self.floor_colors = _vec_field(np.array(colors))
+        self.floor_vertices = vec3_array(np.array(vertices))
+        self.floor_colors = vec3_array(np.array(colors))
         # Given normals: the floor is flat.
-        self.floor_normals = _vec_field(np.tile([0.0, 1.0, 0.0], (len(vertices), 1)))
+        self.floor_normals = vec3_array(np.tile([0.0, 1.0, 0.0], (len(vertices), 1)))
         top = floor + 2.0 * wall
         corners = [(-wall, wall), (wall, wall), (wall, -wall), (-wall, -wall)]
         lines = []
         for j, (x, z) in enumerate(corners):
             nx, nz = corners[(j + 1) % 4]
             lines += [(x, floor, z), (nx, floor, nz), (x, top, z), (nx, top, nz), (x, floor, z), (x, top, z)]
-        self.box_lines = _vec_field(np.array(lines))
+        self.box_lines = vec3_array(np.array(lines))
         ticks = np.arange(-GRID_HALF_WIDTH, GRID_HALF_WIDTH + 1e-9, GRID_STEP)
         grid = [[(t, floor, -GRID_HALF_WIDTH), (t, floor, GRID_HALF_WIDTH)] for t in ticks]
         grid += [[(-GRID_HALF_WIDTH, floor, t), (GRID_HALF_WIDTH, floor, t)] for t in ticks]
-        self.grid_lines = _vec_field(np.array(grid).reshape(-1, 3))
+        self.grid_lines = vec3_array(np.array(grid).reshape(-1, 3))
 
     def _colour_sleepers(self) -> None:
         """Each body's colour, halfway to grey while it sleeps (if grey_sleepers); the colour
@@ -194,10 +194,3 @@ def body_palette(num_bodies: int) -> np.ndarray:
 
     hues = (0.07 + 0.618034 * np.arange(num_bodies)) % 1.0
     return np.array([colorsys.hsv_to_rgb(h, 0.75, 0.92) for h in hues])
-
-
-def _vec_field(array: np.ndarray):
-    """A vec3 f32 ndarray of ``array`` (N, 3): the rasteriser's kernels take ndarrays (raster.py)."""
-    out = ti.Vector.ndarray(3, ti.f32, shape=len(array))
-    out.from_numpy(array.astype(np.float32))
-    return out
