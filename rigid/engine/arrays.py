@@ -89,7 +89,7 @@ RowArgs = _pack_type(dict(body=("f", 3), contact_energy=("f", 1)))
 SurfaceArgs = _pack_type(dict(surface_r0=("v3", 1), surface_body=("i", 1)))
 
 
-_HOST = {"f32": np.float32, "f64": np.float64, "i32": np.int32}
+_HOST = {"f32": np.float32, "f64": np.float64, "i32": np.int32, "u32": np.uint32, "i64": np.int64}
 
 
 def _cpu_pointer(array):

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..engine.arrays import download
 from ..errors import UserError
 from .orbit import MAX_ELEVATION, MIN_ELEVATION, OrbitCamera
 
@@ -175,7 +176,7 @@ class SceneCamera:
         """Move the target with the followed body or the bodies' centre of mass (once per frame)."""
         if self.spec.follow is None:
             return
-        x = self.sim.state.x.to_numpy().astype(np.float64)  # the bodies' centres (no energy sums)
+        x = download(self.sim.state.x).astype(np.float64)  # the bodies' centres (no energy sums)
         if self.follow is not None:
             self.orbit.target = tuple(x[self.follow])
             return

@@ -32,6 +32,7 @@ import math
 import numpy as np
 import taichi as ti
 
+from ..engine.arrays import download, upload
 from .raster_data import Triangles, VertexNormals
 from .raster_edges import column_span as _column_span, edge as _edge
 from .raster_emit import (CULLED, FRONT, LIT, LIT_TWO_SIDED, RECEIVER, _emit_edges, _emit_lines, _emit_mesh,
@@ -70,7 +71,7 @@ class Rasterizer:
         true_up = np.cross(right, forward)
         focal = 0.5 * self.height / math.tan(math.radians(fov_deg) / 2.0)
         rows = [eye, right, true_up, forward, light[0], light[1], ambient, background, (focal, 0.0, 0.0)]
-        self.cam.from_numpy(np.asarray(rows, np.float32))
+        upload(self.cam, np.asarray(rows, np.float32))
         self.count = 0
 
     def mesh(self, vertices, indices=None, normals=None, color=(0.5, 0.5, 0.5), per_vertex_color=None,
@@ -118,7 +119,7 @@ class Rasterizer:
         """The picture as (H, W, 4) uint8 RGBA, top row first, contiguous (a new array)."""
         if self.window:
             return np.ascontiguousarray(self.image.to_numpy().transpose(1, 0, 2)[::-1])
-        return self.rgba.to_numpy().view(np.uint8).reshape(self.height, self.width, 4)
+        return download(self.rgba).view(np.uint8).reshape(self.height, self.width, 4)
 
     # ---- storage ----------------------------------------------------------------------------
     def _out(self) -> tuple:

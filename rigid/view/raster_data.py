@@ -16,12 +16,14 @@ that capture fields do.
 import numpy as np
 import taichi as ti
 
+from ..engine.arrays import download, upload
+
 
 def vec3_array(rows) -> "ti.Ndarray":
     """Rows (N, 3) as the (N,) vec3 f32 ndarray the rasteriser's kernels take."""
     rows = np.asarray(rows, np.float32).reshape(-1, 3)
     out = ti.Vector.ndarray(3, ti.f32, shape=len(rows))
-    out.from_numpy(rows)
+    upload(out, rows)
     return out
 
 
@@ -58,7 +60,7 @@ class VertexNormals:
         key = (id(vertices), id(indices))
         entry = self._cache.get(key)
         if entry is None:
-            entry = self._cache[key] = (vertices, indices, *_adjacency(indices.to_numpy(), vertices.shape[0]))
+            entry = self._cache[key] = (vertices, indices, *_adjacency(download(indices), vertices.shape[0]))
         _, _, offsets, faces, normals = entry
         _smooth_normals(vertices, indices, offsets, faces, normals)
         return normals
@@ -71,9 +73,9 @@ def _adjacency(idx: np.ndarray, num_vertices: int):
     order = np.argsort(idx, kind="stable")
     counts = np.bincount(idx, minlength=num_vertices)
     offsets = ti.ndarray(ti.i32, shape=num_vertices + 1)
-    offsets.from_numpy(np.concatenate([[0], np.cumsum(counts)]).astype(np.int32))
+    upload(offsets, np.concatenate([[0], np.cumsum(counts)]))
     faces = ti.ndarray(ti.i32, shape=max(1, len(idx)))
-    faces.from_numpy(face_of[order].astype(np.int32) if len(idx) else np.zeros(1, np.int32))
+    upload(faces, face_of[order] if len(idx) else np.zeros(1))
     return offsets, faces, ti.Vector.ndarray(3, ti.f32, shape=num_vertices)
 
 

@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 import taichi as ti
 
+from ..engine.arrays import upload
 from ..errors import UserError
 from .camera import SceneCamera
 from .panel import PANEL_TITLE
@@ -67,7 +68,7 @@ class SceneRenderer:
         self.surface = ti.Vector.ndarray(3, ti.f32, shape=max(m.num_surface, 1))
         self.indices = ti.ndarray(ti.i32, shape=max(3 * m.num_faces, 3))
         if m.num_faces:
-            self.indices.from_numpy(m.faces_np.reshape(-1).astype(np.int32))
+            upload(self.indices, m.faces_np.reshape(-1))
         # Closed meshes wound outwards (the assets) skip their back faces: half the triangles.
         self.cull_back = bool(m.num_faces) and closed_and_outward(
             np.concatenate(m.surfaces_np), m.faces_np, m.surface_body_np[m.faces_np[:, 0]])
@@ -125,8 +126,8 @@ class SceneRenderer:
         self._shown_asleep = asleep
         colours = np.where(asleep[:, None], 0.5 * self.palette + 0.5 * SLEEP_GREY, self.palette)
         if self.vertex_colors is not None:
-            self.vertex_colors.from_numpy(colours[m.surface_body_np].astype(np.float32))
-        self.particle_colors.from_numpy(colours[sim.particle_bodies()].astype(np.float32))
+            upload(self.vertex_colors, colours[m.surface_body_np])
+        upload(self.particle_colors, colours[sim.particle_bodies()])
 
     def draw(self) -> None:
         """Draw this frame's scene into the picture (and the window's canvas, if shown)."""
@@ -145,15 +146,15 @@ class SceneRenderer:
         if self.planes is not None:
             self.planes.draw(raster)
         if sim.model.num_faces:
-            self.surface.from_numpy(np.asarray(sim.surface_positions(), np.float32))
+            upload(self.surface, sim.surface_positions())
             raster.mesh(self.surface, self.indices, color=BODY_COLOR, two_sided=True, cull_back=self.cull_back,
                         show_wireframe=self.wireframe, per_vertex_color=self.vertex_colors)
         else:  # a point cloud: draw the particles
-            self.particles.from_numpy(sim.particle_positions().astype(np.float32))
+            upload(self.particles, sim.particle_positions())
             raster.particles(self.particles, radius=0.015, color=BODY_COLOR,
                              per_vertex_color=self.particle_colors)
         if self.spring is not None:
-            self._spring_line.from_numpy(np.asarray(self.spring, np.float32))
+            upload(self._spring_line, self.spring)
             raster.lines(self._spring_line, width=2.5, color=SPRING_COLOR)
         if self.shadows is not None and sim.params.walls:
             self.shadows.update(sim.state.x, sim.state.R)  # read on the device

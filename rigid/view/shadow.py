@@ -14,6 +14,8 @@ cheap tests, an exponential only near a body.
 import numpy as np
 import taichi as ti
 
+from ..engine.arrays import upload
+
 SIZE = 96  # cells along each side of the floor (2 cm in the 2 m box; the shadows are soft)
 DARKEST = 0.55  # a body resting on the floor takes this fraction of the light under its middle
 BLUR, MAX_BLUR = 0.35, 0.12  # m: the blur's standard deviation grows by BLUR per metre of height, to MAX_BLUR
@@ -32,7 +34,7 @@ class ContactShadows:
         # per body: mean x, mean z, inverse covariance (xx, xz, zz), darkness, cell box (i0, i1, k0, k1)
         self.blobs = ti.Vector.ndarray(10, ti.f32, shape=max(1, num_bodies))
         self.box = ti.Vector.ndarray(3, ti.f32, shape=1)  # x0, z0, cells per metre
-        self.box.from_numpy(np.array([[-self.half, -self.half, SIZE / (2.0 * self.half)]], np.float32))
+        upload(self.box, [-self.half, -self.half, SIZE / (2.0 * self.half)])
         self.num_bodies = num_bodies
         points = np.asarray(points, np.float64).reshape(-1, 3)
         starts = np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(np.int64)
@@ -42,8 +44,8 @@ class ContactShadows:
         cov0 = np.add.reduceat(rel[:, :, None] * rel[:, None, :], starts) / n[:, :, None]  # (B, 3, 3)
         self.mean0 = ti.Vector.ndarray(3, ti.f32, shape=max(1, num_bodies))
         self.cov0 = ti.Matrix.ndarray(3, 3, ti.f32, shape=max(1, num_bodies))
-        self.mean0.from_numpy(mean0.astype(np.float32))
-        self.cov0.from_numpy(cov0.astype(np.float32))
+        upload(self.mean0, mean0)
+        upload(self.cov0, cov0)
 
     def update(self, x, R) -> None:
         """Recompute the floor's shade for bodies at centres ``x`` (an ndarray of B vec3, e.g. the
