@@ -53,7 +53,7 @@ class Triangles:
 
 class VertexNormals:
     def __init__(self):
-        self._cache = {}  # id(vertices), id(indices) -> (vertices, indices, offsets, faces, normals)
+        self._cache = {}  # id(vertices), id(indices) -> (vertices, indices, offsets, faces, face normals, normals)
 
     def of(self, vertices, indices):
         """The normals (V,) vec3 f32 ndarray for this frame's ``vertices`` and the fixed ``indices``."""
@@ -61,13 +61,14 @@ class VertexNormals:
         entry = self._cache.get(key)
         if entry is None:
             entry = self._cache[key] = (vertices, indices, *_adjacency(download(indices), vertices.shape[0]))
-        _, _, offsets, faces, normals = entry
-        _smooth_normals(vertices, indices, offsets, faces, normals)
+        _, _, offsets, faces, face_normals, normals = entry
+        _smooth_normals(vertices, indices, offsets, faces, face_normals, normals)
         return normals
 
 
 def _adjacency(idx: np.ndarray, num_vertices: int):
-    """Faces around each vertex: offsets (V+1,) into faces (3F,), and the normals' ndarray."""
+    """Faces around each vertex: offsets (V+1,) into faces (3F,), and the ndarrays of the faces'
+    normals (F,) and the vertices' (V,)."""
     idx = idx.reshape(-1).astype(np.int64)
     face_of = np.repeat(np.arange(len(idx) // 3), 3)
     order = np.argsort(idx, kind="stable")
@@ -76,20 +77,25 @@ def _adjacency(idx: np.ndarray, num_vertices: int):
     upload(offsets, np.concatenate([[0], np.cumsum(counts)]))
     faces = ti.ndarray(ti.i32, shape=max(1, len(idx)))
     upload(faces, face_of[order] if len(idx) else np.zeros(1))
-    return offsets, faces, ti.Vector.ndarray(3, ti.f32, shape=num_vertices)
+    return (offsets, faces, ti.Vector.ndarray(3, ti.f32, shape=max(1, len(idx) // 3)),
+            ti.Vector.ndarray(3, ti.f32, shape=num_vertices))
 
 
 @ti.kernel
 def _smooth_normals(verts: ti.types.ndarray(), idx: ti.types.ndarray(), offsets: ti.types.ndarray(),
-                    faces: ti.types.ndarray(), out: ti.types.ndarray()):
+                    faces: ti.types.ndarray(), face_n: ti.types.ndarray(), out: ti.types.ndarray()):
+    # Each face's (area-weighted) normal once, then each vertex's sum of its faces' in a fixed
+    # order: the same sums as crossing each face again at each of its three vertices, a third
+    # of the work (the pile's 24 tori alone have 196,000 faces).
+    for f in range(idx.shape[0] // 3):
+        p0 = ti.cast(verts[idx[3 * f]], ti.f32)
+        p1 = ti.cast(verts[idx[3 * f + 1]], ti.f32)
+        p2 = ti.cast(verts[idx[3 * f + 2]], ti.f32)
+        face_n[f] = (p1 - p0).cross(p2 - p0)
     for v in range(out.shape[0]):
         total = ti.Vector([0.0, 0.0, 0.0], ti.f32)
         for j in range(offsets[v], offsets[v + 1]):
-            f = faces[j]
-            p0 = ti.cast(verts[idx[3 * f]], ti.f32)
-            p1 = ti.cast(verts[idx[3 * f + 1]], ti.f32)
-            p2 = ti.cast(verts[idx[3 * f + 2]], ti.f32)
-            total += (p1 - p0).cross(p2 - p0)
+            total += face_n[faces[j]]
         out[v] = ti.cast(total.normalized(1e-20), ti.f32)
 
 
