@@ -6,8 +6,8 @@ body darkens the floor under it with an elliptical Gaussian of its footprint (th
 covariance of its drawn vertices' x, z), blurred and faded with the height of its lowest point
 above the floor. The floor is sampled on a small grid (``SIZE``² cells over the box) once per
 frame, each cell multiplying the bodies' factors in body order (the same picture on every
-run), and the rasteriser's floor pixels are multiplied by it (bilinear). Cost: cells × bodies
-cheap tests, an exponential only near a body.
+run), and the rasteriser's floor pixels are multiplied by it (bilinear). Cost: rows × bodies
+cheap tests, then the cells of each body's box, an exponential only near a body.
 """
 # (no "from __future__ import annotations": Taichi reads the kernels' annotations as objects)
 
@@ -79,18 +79,28 @@ def _blobs(x: ti.types.ndarray(), R: ti.types.ndarray(), mean0: ti.types.ndarray
 
 @ti.kernel
 def _shade(shade: ti.types.ndarray(), boxes: ti.types.ndarray(), blobs: ti.types.ndarray(), num_bodies: ti.i32):
+    # Rows of cells in parallel; in each, the bodies in order, each multiplying only the cells of
+    # its box in that row: every cell gets its factors in body order, as from a loop over all
+    # bodies at each cell, for rows x bodies box tests instead of cells x bodies (1,000 bodies:
+    # 96 thousand, not 9.2 million; measured 24-25 -> 8-9 ms a frame, 120 bodies 3.1-3.4 -> 1.2).
+    # The shade agrees with that loop's to 8e-7 (LLVM contracts q differently); the pictures
+    # of the pile, the bowl and the sphere came out byte for byte the same.
     box = boxes[0]
-    for i, k in ti.ndrange(SIZE, SIZE):  # cells in parallel; in each, the bodies in order (the same product every run)
-        light = 1.0
+    ti.loop_config(block_dim=4)  # rows 4 at a time to a thread (Taichi's CPU pool may give one thread a short loop)
+    for i in range(SIZE):
+        for k in range(SIZE):
+            shade[i, k] = 1.0
         for b in range(num_bodies):
             blob = blobs[b]
-            if blob[6] <= i and i <= blob[7] and blob[8] <= k and k <= blob[9]:
+            if blob[6] <= i and i <= blob[7]:
                 dx = box[0] + (i + 0.5) / box[2] - blob[0]
-                dz = box[1] + (k + 0.5) / box[2] - blob[1]
-                q = blob[2] * dx * dx + 2.0 * blob[3] * dx * dz + blob[4] * dz * dz
-                if q < CUTOFF:
-                    light *= 1.0 - blob[5] * ti.exp(-0.5 * q)
-        shade[i, k] = light
+                k0 = ti.max(0, ti.cast(ti.ceil(blob[8]), ti.i32))
+                k1 = ti.min(SIZE - 1, ti.cast(ti.floor(blob[9]), ti.i32))
+                for k in range(k0, k1 + 1):
+                    dz = box[1] + (k + 0.5) / box[2] - blob[1]
+                    q = blob[2] * dx * dx + 2.0 * blob[3] * dx * dz + blob[4] * dz * dz
+                    if q < CUTOFF:
+                        shade[i, k] *= 1.0 - blob[5] * ti.exp(-0.5 * q)
 
 
 @ti.func
