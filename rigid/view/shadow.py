@@ -79,14 +79,15 @@ def _blobs(x: ti.types.ndarray(), R: ti.types.ndarray(), mean0: ti.types.ndarray
 
 @ti.kernel
 def _shade(shade: ti.types.ndarray(), boxes: ti.types.ndarray(), blobs: ti.types.ndarray(), num_bodies: ti.i32):
-    # Rows of cells in parallel; in each, the bodies in order, each multiplying only the cells of
-    # its box in that row: every cell gets its factors in body order, as from a loop over all
-    # bodies at each cell, for rows x bodies box tests instead of cells x bodies (1,000 bodies:
-    # 96 thousand, not 9.2 million; measured 24-25 -> 8-9 ms a frame, 120 bodies 3.1-3.4 -> 1.2).
+    # Row by row; in each, the bodies in order, each multiplying only the cells of its box in
+    # that row: every cell gets its factors in body order, as from a loop over all bodies at
+    # each cell, for rows x bodies box tests instead of cells x bodies (1,000 bodies: 96
+    # thousand, not 9.2 million). Taichi's CPU backend runs a loop of 96 on one thread (it hands
+    # out 512 iterations at a time; rigid.engine.schedule), and still: 1,000 bodies 30 ms of wall
+    # time (1.8 threads busy) -> 13 ms on one; 120 bodies 3.1-3.4 -> 1.2.
     # The shade agrees with that loop's to 8e-7 (LLVM contracts q differently); the pictures
     # of the pile, the bowl and the sphere came out byte for byte the same.
     box = boxes[0]
-    ti.loop_config(block_dim=4)  # rows 4 at a time to a thread (Taichi's CPU pool may give one thread a short loop)
     for i in range(SIZE):
         for k in range(SIZE):
             shade[i, k] = 1.0
