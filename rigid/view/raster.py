@@ -40,6 +40,7 @@ from .raster_emit import (CULLED, FRONT, LIT, LIT_TWO_SIDED, RECEIVER, _emit_edg
 from .shadow import shade_at
 
 EMPTY = 1 << 62  # a pixel's key before any triangle covers it
+ROW_RUNS = 8  # the pixel loops split each column into this many runs of rows (_resolve)
 WIRE_COLOR = (0.15, 0.15, 0.15)
 
 
@@ -156,8 +157,9 @@ def _optional(array, kind: str = "v"):
 # ---- kernels: pixels out ----------------------------------------------------------------
 @ti.kernel
 def _clear_keys(key: ti.types.ndarray()):
-    for x in range(key.shape[0]):
-        for y in range(key.shape[1]):
+    for item in range(key.shape[0] * ROW_RUNS):  # as _resolve walks the keys
+        x, run = item // ROW_RUNS, item % ROW_RUNS
+        for y in range(run * key.shape[1] // ROW_RUNS, (run + 1) * key.shape[1] // ROW_RUNS):
             key[x, y] = ti.i64(EMPTY)
 
 
@@ -223,12 +225,15 @@ def _resolve(vs: ti.types.ndarray(), vn: ti.types.ndarray(), vp: ti.types.ndarra
              image: ti.template(), window: ti.template(), shade: ti.types.ndarray(), box: ti.types.ndarray(),
              shadows: ti.template()):
     height = rgba.shape[0]
-    # Columns in parallel, each column's rows in a loop: an ndrange over run-time sizes divides
-    # to find each pixel's (x, y), which cost a fifth of this kernel at 1280 x 720. (Rows in
-    # parallel, to write the file's picture along its rows, measured slower: the keys' reads
-    # then go across theirs.)
-    for x in range(key.shape[0]):
-        for y in range(key.shape[1]):
+    # Runs of a column's rows in parallel, each run's rows in a loop: an ndrange over run-time
+    # sizes divides to find each pixel's (x, y), which cost a fifth of this kernel at 1280 x 720
+    # (ROW_RUNS is a constant: its division is a shift). A column each was slower at 640 x 360:
+    # Taichi's CPU backend hands a loop out 512 iterations at a time, so 640 columns ran as 512
+    # and 128. (Rows in parallel, to write the file's picture along its rows, measured slower:
+    # the keys' reads then go across theirs.)
+    for item in range(key.shape[0] * ROW_RUNS):
+        x, run = item // ROW_RUNS, item % ROW_RUNS
+        for y in range(run * key.shape[1] // ROW_RUNS, (run + 1) * key.shape[1] // ROW_RUNS):
             rgb = _pixel_colour(vs, vn, vp, vc, kinds, cam, shade, box, shadows, key[x, y], x, y)
             byte = ti.cast(ti.min(ti.max(rgb, 0.0), 1.0) * 255.0 + 0.5, ti.u32)
             if ti.static(window):  # one picture written, the one that is read
