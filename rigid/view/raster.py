@@ -155,11 +155,19 @@ def _optional(array, kind: str = "v"):
 
 
 # ---- kernels: pixels out ----------------------------------------------------------------
+@ti.func
+def _column_run(key: ti.template(), item):
+    """Work item ``item`` of a pixel loop over ``key``'s W x ROW_RUNS runs: its column x and
+    rows [y0, y1) (ROW_RUNS is a constant, so the division is a shift)."""
+    x, run = item // ROW_RUNS, item % ROW_RUNS
+    return x, run * key.shape[1] // ROW_RUNS, (run + 1) * key.shape[1] // ROW_RUNS
+
+
 @ti.kernel
 def _clear_keys(key: ti.types.ndarray()):
     for item in range(key.shape[0] * ROW_RUNS):  # as _resolve walks the keys
-        x, run = item // ROW_RUNS, item % ROW_RUNS
-        for y in range(run * key.shape[1] // ROW_RUNS, (run + 1) * key.shape[1] // ROW_RUNS):
+        x, y0, y1 = _column_run(key, item)
+        for y in range(y0, y1):
             key[x, y] = ti.i64(EMPTY)
 
 
@@ -232,8 +240,8 @@ def _resolve(vs: ti.types.ndarray(), vn: ti.types.ndarray(), vp: ti.types.ndarra
     # and 128. (Rows in parallel, to write the file's picture along its rows, measured slower:
     # the keys' reads then go across theirs.)
     for item in range(key.shape[0] * ROW_RUNS):
-        x, run = item // ROW_RUNS, item % ROW_RUNS
-        for y in range(run * key.shape[1] // ROW_RUNS, (run + 1) * key.shape[1] // ROW_RUNS):
+        x, y0, y1 = _column_run(key, item)
+        for y in range(y0, y1):
             rgb = _pixel_colour(vs, vn, vp, vc, kinds, cam, shade, box, shadows, key[x, y], x, y)
             byte = ti.cast(ti.min(ti.max(rgb, 0.0), 1.0) * 255.0 + 0.5, ti.u32)
             if ti.static(window):  # one picture written, the one that is read
