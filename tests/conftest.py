@@ -47,14 +47,14 @@ GROUPS = {
     **dict.fromkeys(("test_physics_accuracy", "test_physics_energy", "test_physics_inertia",
                      "test_physics_momentum", "test_physics_rotation"), "physics_fp64"),
     **dict.fromkeys(("test_scenes", "test_many_bodies", "test_export_animation", "test_camera",
-                     "test_multi_mesh_bodies"), "scenes"),
+                     "test_multi_mesh_bodies", "test_report", "test_bench_many"), "scenes"),
     **dict.fromkeys(("test_core", "test_impulse", "test_panel", "test_window_grab", "test_window_shadow"), "sphere"),
 }
 # Groups by measured CPU time, longest first: xdist hands them out in collection order, each
 # worker holding about two tests ahead, so the long ones start first and both workers end on
 # short ones. The in-process "scenes" group runs beside the grading batch; the rest follow in
 # file order.
-ORDER = ("test_grading_batch", "scenes", "test_report", "physics_fp64", "test_bench_many",
+ORDER = ("test_grading_batch", "scenes", "physics_fp64",
          "test_view_memory", "test_export", "test_view_raster",
          "test_render", "test_parallel_path", "test_window", "sphere", "test_grading_handout",
          "test_frame_chunks")
