@@ -1,7 +1,7 @@
 """scripts/bench_many.py --quick runs and writes the report's keys (speeds are never asserted).
 
-It runs in this worker (the "scenes" group, conftest.GROUPS: the many-body kernels are compiled
-already), through the script's own ``main``: a process of its own compiled them again (~5 CPU-s)."""
+It runs in this worker (the "scenes" group, conftest.GROUPS), through the script's own ``main``:
+the kernels it compiles are the group's, where a process of its own compiled them again."""
 import importlib.util
 import json
 
