@@ -36,22 +36,38 @@ def check_start(config, bodies) -> None:
                 raise UserError(f"{name} starts {depth:.3g} m behind [[plane]] {index + 1} (point "
                                 f"{list(plane['point'])}, normal {[round(v, 4) for v in plane['normal']]}); "
                                 f"move it to the side the normal points to")
-    centres = [p.mean(axis=0) for p in points]
-    reach = [float(np.sqrt(((p - c) ** 2).sum(axis=1).max())) + b.radius for p, c, b in zip(points, centres, bodies)]
-    for a in range(len(bodies)):
-        for b in range(a + 1, len(bodies)):
-            if bodies[a].static and bodies[b].static:
-                continue
-            if bodies[a].group is not None and bodies[a].group == bodies[b].group:
-                continue
-            if np.linalg.norm(centres[a] - centres[b]) >= reach[a] + reach[b]:
-                continue
-            touch = bodies[a].radius + bodies[b].radius
-            depth = _deepest(points[a], points[b], touch)
-            if depth > TOLERANCE * touch:
-                raise UserError(f"{names[a]} and {names[b]} overlap by {depth:.3g} m at the start (their particles' "
-                                f"spheres, radius {bodies[a].radius:.3g} and {bodies[b].radius:.3g} m); the "
-                                f"contact would fire them apart: move them apart (position) or lower count")
+    for a, b in _close_pairs(points, bodies):
+        touch = bodies[a].radius + bodies[b].radius
+        depth = _deepest(points[a], points[b], touch)
+        if depth > TOLERANCE * touch:
+            raise UserError(f"{names[a]} and {names[b]} overlap by {depth:.3g} m at the start (their particles' "
+                            f"spheres, radius {bodies[a].radius:.3g} and {bodies[b].radius:.3g} m); the "
+                            f"contact would fire them apart: move them apart (position) or lower count")
+
+
+def _close_pairs(points, bodies) -> np.ndarray:
+    """(a, b) with a < b, in that order, of the bodies whose bounding spheres (about their particles'
+    centre, holding every particle's sphere) meet, leaving out two statics and the meshes of one
+    file. A tree of the centres finds them: testing every pair in Python took 7 s for 2,000 bodies
+    and grew as the square."""
+    from scipy.spatial import cKDTree
+
+    if len(bodies) < 2:
+        return np.zeros((0, 2), int)
+    centres = np.array([p.mean(axis=0) for p in points])
+    reach = np.array([np.sqrt(((p - c) ** 2).sum(axis=1).max()) + b.radius
+                      for p, c, b in zip(points, centres, bodies)])
+    # Each body's neighbours within its reach plus the largest: a big static mesh finds the small
+    # bodies near it, which do not all find one another.
+    around = cKDTree(centres).query_ball_point(centres, reach + reach.max())
+    pairs = np.array(sorted((a, b) for a, near in enumerate(around) for b in near if b > a), int).reshape(-1, 2)
+    a, b = pairs[:, 0], pairs[:, 1]
+    near = np.linalg.norm(centres[a] - centres[b], axis=1) < reach[a] + reach[b]
+    static = np.array([body.static for body in bodies])
+    group = [body.group for body in bodies]
+    keep = near & ~(static[a] & static[b])
+    keep &= np.array([group[i] is None or group[i] != group[j] for i, j in pairs], bool).reshape(-1)
+    return pairs[keep]
 
 
 def _deepest(p: np.ndarray, q: np.ndarray, touch: float) -> float:

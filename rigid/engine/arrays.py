@@ -79,8 +79,8 @@ WorldArgs = _pack_type(dict(values=("f", 1), planes=("v4", 1)))
 
 ScratchArgs = _pack_type(dict(
     particle_f=("v3", 1), particle_couple=("v3", 1), block_energy=("f", 1), partial_F=("v3", 1), partial_tau=("v3", 1),
-    cell_count=("i", 1), cell_start=("i", 1), particle_cell=("i", 1),
-    sorted_particle=("i", 1), sorted_x=("v3", 1), sorted_body=("i", 1), chunk_total=("i", 1), grid_dims=("i", 1), grid_params=("f", 1),
+    cell_count=("i", 1), cell_start=("i", 1),
+    sorted_particle=("i", 1), sorted_x=("v3", 1), sorted_body=("i", 1), sorted_run_end=("i", 1), chunk_total=("i", 1), grid_dims=("i", 1), grid_params=("f", 1),
     nbr_count=("i", 1), nbr_list=("i", 1), build_x=("v3", 1), nbr_flags=("i", 1), active=("i", 1), build_pose=("v15", 1),
     rk=("v13", 1), contacts=("i", 1)))
 

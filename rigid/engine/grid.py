@@ -13,13 +13,14 @@ Build (taichi_dem's count / prefix sum / scatter):
   scan:    cell_start[c] = Σ_{c' < c} cell_count[c']       (scan.py)
   scatter: sorted_particle[cell_start[c] ...] = particles of c (atomic cursor)
   order:   each cell's particles by slot (a parallel scatter's order varies; a fixed order
-           keeps every later sum, and so every run, bit-reproducible)
+           keeps every later sum, and so every run, bit-reproducible); then in each cell
+           where each body's run of particles ends (the list build skips its own body's)
 Neighbours of a particle: the 3 × 3 rows of 3 cells around it; a row's three cells are
 consecutive in memory unless it wraps, so it is one range of sorted_particle.
 
 Scratch arrays (ScratchArgs): ``cell_count`` [C] i32 (then the scatter's cursors), ``cell_start`` [C + 1] i32,
-``particle_cell``, ``sorted_particle`` [N] i32, and in that sorted order copies of each particle's
-``sorted_x`` [N] vec3 (world) and ``sorted_body`` [N] i32, ``grid_dims`` = (D, C, scan chunks) i32,
+``sorted_particle`` [N] i32, and in that sorted order copies of each particle's
+``sorted_x`` [N] vec3 (world) and ``sorted_body`` [N] i32, ``sorted_run_end`` [N] i32 (mark_run_end), ``grid_dims`` = (D, C, scan chunks) i32,
 ``grid_params`` = (1/h, ...) float (neighbours.py uses the rest). ``GridShape`` sizes them on the host.
 """
 
@@ -76,17 +77,21 @@ def cell_index(s: ti.template(), ix, iy, iz):
 
 
 @ti.func
-def count_particle(s: ti.template(), state: ti.template(), i):
-    """Record slot i in its cell (atomic: particles may run in parallel)."""
+def particle_cell(s: ti.template(), state: ti.template(), i):
+    """The cell of slot i (recomputed where needed: the same operations on the same position)."""
     g = cell_coords(s, state.particle_x[i])
-    c = cell_index(s, g[0], g[1], g[2])
-    s.particle_cell[i] = c
-    ti.atomic_add(s.cell_count[c], 1)
+    return cell_index(s, g[0], g[1], g[2])
 
 
 @ti.func
-def scatter_particle(s: ti.template(), i):
-    slot = ti.atomic_add(s.cell_count[s.particle_cell[i]], 1)
+def count_particle(s: ti.template(), state: ti.template(), i):
+    """Count slot i in its cell (atomic: particles may run in parallel)."""
+    ti.atomic_add(s.cell_count[particle_cell(s, state, i)], 1)
+
+
+@ti.func
+def scatter_particle(s: ti.template(), state: ti.template(), i):
+    slot = ti.atomic_add(s.cell_count[particle_cell(s, state, i)], 1)
     s.sorted_particle[slot] = i
 
 
@@ -101,6 +106,19 @@ def sort_cell(s: ti.template(), c):
             s.sorted_particle[k + 1] = s.sorted_particle[k]
             k -= 1
         s.sorted_particle[k + 1] = value
+
+
+@ti.func
+def mark_run_end(s: ti.template(), k, next_end, cell_end):
+    """sorted_run_end[k]: where the run of body sorted_body[k] that starts at or before k ends
+    in k's cell (a cell is sorted by slot, and a body's slots are contiguous, so its particles
+    in a cell form one run): the list build passes over its own body's particles in one step.
+    ``next_end`` is sorted_run_end[k + 1] (read only when k + 1 is in the cell)."""
+    end = k + 1
+    if end < cell_end:
+        if s.sorted_body[end] == s.sorted_body[k]:
+            end = next_end
+    s.sorted_run_end[k] = end
 
 
 @ti.func
@@ -134,9 +152,18 @@ def finish_serial(s: ti.template(), model: ti.template(), state: ti.template(), 
     for c in range(C):
         s.cell_count[c] = s.cell_start[c]  # the counts are summed: reuse them as cursors
     for i in range(N):
-        scatter_particle(s, i)
+        scatter_particle(s, state, i)
     for k in range(N):
         gather_sorted(s, model, state, k)
+    next_cell, cell_end = -1, N
+    for t in range(N):  # backwards: each run's end is known from its last particle's
+        k = N - 1 - t
+        g = cell_coords(s, s.sorted_x[k])  # the copy of its position: the same cell
+        c = cell_index(s, g[0], g[1], g[2])
+        if c != next_cell:
+            cell_end = k + 1
+        mark_run_end(s, k, s.sorted_run_end[(k + 1) % N], cell_end)
+        next_cell = c
 
 
 @ti.func
@@ -147,11 +174,15 @@ def finish_parallel(s: ti.template(), model: ti.template(), state: ti.template()
     for c in range(s.grid_dims[1] * gate):
         s.cell_count[c] = s.cell_start[c]  # the counts are summed: reuse them as cursors
     for i in range(state.particle_x.shape[0] * gate):
-        scatter_particle(s, i)
+        scatter_particle(s, state, i)
     for c in range(s.grid_dims[1] * gate):
         sort_cell(s, c)
-        for k in range(s.cell_start[c], s.cell_start[c + 1]):
+        lo, hi = s.cell_start[c], s.cell_start[c + 1]
+        for k in range(lo, hi):
             gather_sorted(s, model, state, k)
+        for t in range(hi - lo):  # backwards, as in finish_serial
+            k = hi - 1 - t
+            mark_run_end(s, k, s.sorted_run_end[(k + 1) % state.particle_x.shape[0]], hi)
 
 
 @ti.func

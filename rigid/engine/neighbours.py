@@ -86,15 +86,20 @@ def build_list(model: ti.template(), state: ti.template(), scratch: ti.template(
                 own_row = dz == 0 and dy == 0
                 for part in range(3):
                     lo, hi = grid.row_range(scratch, g[0], g[1] + dy, g[2] + dz, part)
-                    for slot in range(lo, hi):
-                        j = scratch.sorted_particle[slot]
+                    slot = lo
+                    while slot < hi:
                         b = scratch.sorted_body[slot]
-                        if b != a and (j > i or not own_row):
-                            d = scratch.sorted_x[slot] - p
-                            reach = r_a + model.particle_radius[b] + skin
-                            if d.dot(d) < reach * reach:
-                                _append(scratch, i, j, stride)
-                                _append(scratch, j, i, stride)
+                        if b == a:  # its own body's run in this cell, passed over at once
+                            slot = scratch.sorted_run_end[slot]
+                        else:
+                            j = scratch.sorted_particle[slot]
+                            if j > i or not own_row:
+                                d = scratch.sorted_x[slot] - p
+                                reach = r_a + model.particle_radius[b] + skin
+                                if d.dot(d) < reach * reach:
+                                    _append(scratch, i, j, stride)
+                                    _append(scratch, j, i, stride)
+                            slot += 1
     scratch.build_x[i] = p
 
 

@@ -187,9 +187,11 @@ def _sweep_particle(model: ti.template(), state: ti.template(), scratch: ti.temp
     n = scratch.nbr_count[i]
     if n <= stride:
         base = i * stride
-        for s in range(n):
-            j = scratch.nbr_list[base + s]
-            if j > i and _wanted(model, state, a_rests, j, sleeping):
+        for t in range(n):  # the entries above i, from the list's end down (it is sorted by slot)
+            j = scratch.nbr_list[base + n - 1 - t]
+            if j < i:  # the rest are below i: pairs evaluated in their turns
+                break
+            if _wanted(model, state, a_rests, j, sleeping):
                 fp, c, _e = pair_between(model, state, i, p, r_a, x_a, v_a, w_a, k, kd, mu, j)
                 if _touching(fp):
                     f += fp
