@@ -1,10 +1,10 @@
 """Many-body speed: the peers (PyBullet, MuJoCo), sleeping, the stage profile, the MuJoCo
-comparison pile, cost against particle count, 1,000 bodies.
+comparison pile, cost against particle count (finer spheres; more spheres), 1,000 bodies.
 
     python scripts/bench_many.py                  # the full run (~30 min on 2 cores)
     python scripts/bench_many.py --quick          # a smoke run: small sizes (seconds)
     python scripts/bench_many.py --only peers     # some sections (peers sleeping profile piles
-                                                  # scaling thousand); the JSON keeps the others
+                                                  # scaling pile_scaling thousand); the JSON keeps the others
 
 0. rigid.bench.peers: the icosphere pile at 27, 125 and 1,000 bodies in this engine (sleeping on
    and off), PyBullet and MuJoCo (same mesh, and sphere primitives), wall s per simulated s;
@@ -16,7 +16,8 @@ comparison pile, cost against particle count, 1,000 bodies.
    same positions and masses), side by side in one process, and their ratio.
 2. Cost per substep against particle count (125 volume-sampled spheres, grid chosen to
    reach each target), on the schedule the engine chooses (rigid.engine.schedule), falling
-   (frames 2-7) and in contact (frames 61-66) at every size.
+   (frames 2-7) and in contact (frames 61-66) at every size; rigid.bench.pile_scaling: the
+   same against particle count with more bodies instead (27 to 24,000 42-vertex spheres).
 3. 1,000 volume-sampled spheres (scale 0.05, grid 8: 208,000 particles): rendered frames
    per second, 16 substeps per frame, engine only (no drawing), falling and in contact (from 1 s).
 Times: median over repeats of whole frames' wall time. The machine's load and CPU count
@@ -34,6 +35,7 @@ from pathlib import Path
 import numpy as np
 
 from .many_markdown import markdown
+from .pile_scaling import pile_scaling
 
 ROOT = Path(__file__).resolve().parents[2]
 PILE = dict(scale=0.15, position=(0.0, -0.8, 0.0), dt=1e-3)
@@ -233,7 +235,7 @@ def figure(points: list[dict], path: Path) -> None:
     plt.close(fig)
 
 
-SECTIONS = ("peers", "sleeping", "profile", "piles", "scaling", "thousand")
+SECTIONS = ("peers", "sleeping", "profile", "piles", "scaling", "pile_scaling", "thousand")
 
 
 def profiles(units, quick: bool) -> dict:
@@ -281,6 +283,9 @@ def run(out: Path, quick: bool = False, sections=SECTIONS) -> dict:
         targets = (1_000,) if quick else (1_000, 4_000, 16_000, 64_000, 256_000, 1_000_000)
         report["scaling"] = scaling(units, targets, max_build_s=400.0)
         figure(report["scaling"], out / "figures" / "many_scaling.png")
+    if "pile_scaling" in sections:
+        print("piles of 42-vertex spheres, 1k to 1M particles", flush=True)
+        report["pile_scaling"] = pile_scaling(units, quick)  # pile_scaling.py
     if "thousand" in sections:
         print("1,000 bodies", flush=True)
         report["thousand"] = thousand(units, quick)

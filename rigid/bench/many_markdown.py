@@ -2,7 +2,7 @@
 
 
 def markdown(r: dict) -> str:
-    from . import peers, sleeping
+    from . import peers, pile_scaling, sleeping
 
     m = r["machine"]
     lines = ["# Many-body benchmark", "",
@@ -49,6 +49,8 @@ def markdown(r: dict) -> str:
                   f"{p['ns_per_particle_substep']} | {_get(p, 'contact_us_per_substep', ',')} | "
                   f"{_get(p, 'contact_ns_per_particle_substep')} |" for p in r["scaling"]]
         lines.append("")
+    if r.get("pile_scaling"):
+        lines += pile_scaling.markdown(r["pile_scaling"])
     t = r.get("thousand")
     if t:
         lines += ["## 1,000 bodies", "",

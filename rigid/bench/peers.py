@@ -45,18 +45,20 @@ def versions() -> dict:
     return out
 
 
-def scene(count: int, seed: int = 0):
-    """(config, bodies) of the benchmark's pile: the engine's lattice, jittered."""
+def scene(count: int, seed: int = 0, scale: float | None = None):
+    """(config, bodies) of the benchmark's pile: the engine's lattice, jittered (by less for spheres
+    smaller than 0.07, whose lattice leaves smaller gaps)."""
     from rigid.bodies.placement import scene_bodies
     from rigid.config import SimConfig
 
-    scale = SCALE.get(count, 0.15 if count <= 125 else 0.07)
+    scale = scale or SCALE.get(count, 0.15 if count <= 125 else 0.07)
     config = SimConfig(mesh=str(SPHERE), scale=scale, count=count, position=(0.0, -0.8, 0.0), seed=seed,
                        **MATERIALS).validate()
     bodies = scene_bodies(config)
     rng = np.random.default_rng(seed + 1000)
+    jitter = JITTER * min(1.0, scale / 0.07)
     for b in bodies:
-        b.position = b.position + np.array([1.0, 0.0, 1.0]) * rng.uniform(-JITTER, JITTER, 3)
+        b.position = b.position + np.array([1.0, 0.0, 1.0]) * rng.uniform(-jitter, jitter, 3)
     return config, bodies
 
 
