@@ -62,7 +62,7 @@ def _bench(doc, out: Path, bench: dict | None) -> None:
     if rows:
         doc.para("Piles of vertex spheres (42 particles each, scale 0.15, Δt = 1 ms), the engine and MuJoCo "
                  "on the same pile in one process, medians over alternating repeats (ratio < 1: the "
-                 "engine is faster; with 27 spheres MuJoCo is faster):")
+                 "engine is faster):")
         doc.table(["bodies", "particles", "engine µs/substep", "MuJoCo µs/step", "engine / MuJoCo"], rows)
     scaling = bench.get("scaling") or []
     if (out / "figures" / "many_scaling.png").exists():
@@ -77,6 +77,15 @@ def _bench(doc, out: Path, bench: dict | None) -> None:
                     f"{p['contact_us_per_substep']:,.0f}" if "contact_us_per_substep" in p else "–",
                     f"{p['contact_ns_per_particle_substep']:.0f}" if "contact_us_per_substep" in p else "–"]
                    for p in scaling])
+        doc.para("Those spheres grow heavier as they get finer (1 kg a particle on the same springs) and sink "
+                 "into one another. With more bodies instead, the peers' 42-vertex spheres of 0.42 kg, smaller "
+                 "as they multiply so that the lattice fits the box (bench_many.py's pile_scaling):")
+    piles = bench.get("pile_scaling") or []
+    if piles:
+        doc.table(["bodies", "particles", "path", "ns/particle-substep falling", "in contact", "rebuilds/substep"],
+                  [[f"{p['bodies']:,}", f"{p['particles']:,}", p["path"], f"{p['falling_ns_per_particle_substep']:.0f}",
+                    f"{p['contact_ns_per_particle_substep']:.0f}", f"{p['contact_rebuilds_per_substep']:.2f}"]
+                   for p in piles])
 
 
 def _rise(rise: float) -> str:
