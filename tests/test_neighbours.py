@@ -18,6 +18,7 @@ def test_every_touching_pair_is_in_the_lists(sim_cache):
     touching_total, builds0 = 0, sim.neighbour_builds
     for frame in range(40):
         sim.advance_frames(3)
+        stride = sim._scratch_arrays["nbr_list"].shape[0] // sim.num_particles  # (they may grow)
         p = sim.particle_positions()
         pairs = cKDTree(p).query_pairs(2 * radius.max(), output_type="ndarray")
         d = np.linalg.norm(p[pairs[:, 0]] - p[pairs[:, 1]], axis=1)
@@ -112,7 +113,7 @@ def test_a_particle_whose_list_overflows_loses_no_contact(sim_cache, monkeypatch
     entries (most touching particles overflow) must give the pile of lists of 16 to round-off,
     on both schedules (the one-thread sweep gives an overflowing particle's pairs to both sides
     its own way, pair_once.py); a dropped contact would let spheres sink into each other."""
-    from rigid.engine import neighbours
+    from rigid.engine import list_growth, neighbours
 
     config = dict(mesh=str(ASSETS / "sphere.obj"), count=27, scale=0.15, position=(0.0, -0.8, 0.0),
                   particle_mass=0.01, velocity_damping_stiffness=12.0, friction_stiffness=0.4,
@@ -121,6 +122,7 @@ def test_a_particle_whose_list_overflows_loses_no_contact(sim_cache, monkeypatch
     for schedule in ("serial", "parallel"):
         for k in (16, 2):
             monkeypatch.setattr(neighbours, "NEIGHBOURS_PER_PARTICLE", k)
+            monkeypatch.setattr(list_growth, "MAX_NEIGHBOURS", k)  # the lists stay this short
             sim = sim_cache(**config)
             sim.schedule = schedule
             overflowing = 0

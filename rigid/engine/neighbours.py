@@ -17,13 +17,14 @@ bit-reproducible; it is symmetric (each pair is tested once, from one side, and 
 both lists). A particle with more than K candidates keeps only its count, and its sum walks
 the build's grid again around the cell of its build position, testing the candidates' current
 positions (a superset of its list: exact, in the walk's fixed order): no contact is dropped.
+The host then doubles K and runs the chunk again (list_growth.py).
 
 Scratch arrays (ScratchArgs): ``nbr_count`` [N] i32, ``nbr_list`` [N·K] i32 (particle slots),
 ``build_x`` [N] vec3 (world positions at the last build), ``active`` [N] i32 (the slots with a
-candidate, first nbr_flags[2] of them), ``nbr_flags`` [4 + 2B] i32 (1: rebuild at the next
+candidate, first nbr_flags[2] of them), ``nbr_flags`` [5 + 2B] i32 (1: rebuild at the next
 placement, MAYBE while note_motion leaves it to close_pairs_moved; builds so far; active particles; then per body b, [3 + b] = 1 when b sleeps and a
 body that does not rest has it in its lists, and [3 + B + b] .. [3 + B + b + 1] its run of the
-active list, on one thread: pair_once.py; one array, as the x64 backend takes at most 64
+active list, on one thread: pair_once.py; [4 + 2B] = 1 once a list overflowed (list_growth.py); one array, as the x64 backend takes at most 64
 argument elements), ``grid_params`` [1], [2] = the skin, the relative motion allowed before a
 rebuild (the skin less 2 % for round-off); per body [B]: ``build_pose`` = its x (3) and R
 (9, row by row) at the last build, ρ_b, its largest |r0|, then (motion.note_motion, each substep) e_b,
@@ -34,7 +35,7 @@ import taichi as ti
 
 from . import grid
 
-NEIGHBOURS_PER_PARTICLE = 16  # list slots per particle; beyond, the particle walks the grid (exact)
+NEIGHBOURS_PER_PARTICLE = 16  # list slots per particle to start with (list_growth.py doubles them where needed)
 SKIN_FRACTION = 0.5  # skin = this × the largest particle diameter
 ALLOWED_MOTION = 0.98  # × the skin: two particles' relative motion before a rebuild (less 2 % for round-off)
 
@@ -117,6 +118,8 @@ def finish_list(state: ti.template(), scratch: ti.template(), i):
             scratch.nbr_list[base + k + 1] = scratch.nbr_list[base + k]
             k -= 1
         scratch.nbr_list[base + k + 1] = value
+    if scratch.nbr_count[i] > stride:  # it walks the grid: the lists may grow (list_growth.py)
+        scratch.nbr_flags[scratch.nbr_flags.shape[0] - 1] = 1
     if scratch.nbr_count[i] > 0:  # visited by the pair stage until the next build (in any order: each writes its own)
         scratch.active[ti.atomic_add(scratch.nbr_flags[2], 1)] = i
     else:  # never visited: no pair force until the next build

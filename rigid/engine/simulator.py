@@ -22,6 +22,7 @@ from ..bodies.statics import static_bodies
 from .arrays import clear, download, host_float, upload
 from .grab import default_spring, holding, released
 from .kernels import engine_kernels
+from .list_growth import ListGrowth
 from .scratch import make_scratch
 from .launch import schedule_launches
 from .model import BodyParts, Model
@@ -67,6 +68,7 @@ class Simulator:
         self.scratch, self._scratch_arrays, self.grid_shape, self.cell_size = make_scratch(
             self.model, config, pairs, self.materials)
         self._launches = None
+        self._lists = ListGrowth(N, pairs)
         self.schedule = choose_schedule(N, pairs, schedule)
         self._surface_out = np.empty((max(self.model.num_surface, 1), 3), host_float())
         self.reset()
@@ -195,10 +197,14 @@ class Simulator:
         return {key: np.concatenate([start[key], block[key]]) for key in block}
 
     def _run(self, frames: int, substeps: int):
-        """``frames`` frames of ``substeps`` substeps, rows 0 .. frames − 1 written."""
-        launch = self._prepared_launches()
+        """``frames`` frames of ``substeps`` substeps, rows 0 .. frames − 1 written (run again with
+        longer neighbour lists if a build overflowed them: list_growth.py)."""
         if self._params_version != self.params.version:  # a runtime parameter changed: wake every body
             self.wake()
+        self._lists.run(self, lambda: self._launch(frames, substeps))
+
+    def _launch(self, frames: int, substeps: int):
+        launch = self._prepared_launches()
         if self.schedule == "serial":
             launch["run_frames"](frames=frames, substeps=substeps)
             return
