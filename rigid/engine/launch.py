@@ -56,6 +56,17 @@ def schedule_launches(schedule: str, kernels, model, state, world, scratch, rows
                 finish_frame=PreparedLaunch(kernels.finish_frame, model, state, world, scratch, rows, 0))
 
 
+def run_chunk(launches: dict, schedule: str, frames: int, substeps: int) -> None:
+    """``frames`` frames of ``substeps`` substeps (rows 0 .. frames − 1) through ``launches``."""
+    if schedule == "serial":
+        launches["run_frames"](frames=frames, substeps=substeps)
+        return
+    for frame in range(frames):
+        for _ in range(substeps):
+            launches["substep"]()
+        launches["finish_frame"](slot=frame)
+
+
 def _prepare(kernel, args):
     from taichi.lang import impl
     from taichi.lang._ndarray import Ndarray

@@ -24,7 +24,7 @@ from .grab import default_spring, holding, released
 from .kernels import engine_kernels
 from .list_growth import ListGrowth
 from .scratch import make_scratch
-from .launch import schedule_launches
+from .launch import run_chunk, schedule_launches
 from .model import BodyParts, Model
 from .rows import FrameRows, split_rows, with_energies
 from .schedule import check_schedule, choose_schedule
@@ -201,17 +201,7 @@ class Simulator:
         longer neighbour lists if a build overflowed them: list_growth.py)."""
         if self._params_version != self.params.version:  # a runtime parameter changed: wake every body
             self.wake()
-        self._lists.run(self, lambda: self._launch(frames, substeps))
-
-    def _launch(self, frames: int, substeps: int):
-        launch = self._prepared_launches()
-        if self.schedule == "serial":
-            launch["run_frames"](frames=frames, substeps=substeps)
-            return
-        for frame in range(frames):
-            for _ in range(substeps):
-                launch["substep"]()
-            launch["finish_frame"](slot=frame)
+        self._lists.run(self, lambda: run_chunk(self._prepared_launches(), self.schedule, frames, substeps))
 
     def _prepared_launches(self) -> dict:
         """The launches of this Simulator's schedule, made on first use (a Simulator only read
