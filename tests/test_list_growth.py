@@ -41,3 +41,17 @@ def test_grown_lists_give_the_bits_of_long_lists(sim_cache, monkeypatch, schedul
         assert stride > 2, "the lists did not grow: the test would prove nothing"
         for key in ("x", "q", "P", "L"):
             assert np.array_equal(grown[key], long[key]), (chunked, key, np.abs(grown[key] - long[key]).max())
+
+
+def test_lists_grow_only_as_far_as_they_overflow(sim_cache, monkeypatch):
+    """A flag raised before a chunk (here by hand, as a build outside a chunk could) is not taken
+    for the chunk's own: lists that hold every candidate stay as they are."""
+    from rigid.engine import list_growth, neighbours
+
+    monkeypatch.setattr(neighbours, "NEIGHBOURS_PER_PARTICLE", 16)
+    sim = sim_cache(**PILE)
+    flags = sim._scratch_arrays["nbr_flags"]
+    flags[flags.shape[0] - 1] = 1
+    sim.advance_frames(5)
+    assert sim._scratch_arrays["nbr_list"].shape[0] == 16 * sim.num_particles
+    assert sim.neighbour_counts().max() <= 16

@@ -46,6 +46,7 @@ class ListGrowth:
         while self.can_grow(sim._scratch_arrays):
             if self._copy is None:
                 self._copy = Snapshot(self._kept(sim))
+            self._copy.set_flag(sim._scratch_arrays["nbr_flags"], 0)  # only this chunk's builds count
             self._copy.save()
             run_chunk()
             if not self._copy.flag(sim._scratch_arrays["nbr_flags"]):
@@ -107,7 +108,17 @@ class Snapshot:
         """The last element of the i32 array ``flags`` (the lists' overflow flag) is set."""
         if not self.cpu:
             return bool(download(flags)[-1])
+        ti.sync()
+        return self._last(flags).value != 0
+
+    def set_flag(self, flags, value: int) -> None:
+        if not self.cpu:
+            flags[flags.shape[0] - 1] = value
+            return
+        ti.sync()
+        self._last(flags).value = value
+
+    def _last(self, flags):
         if self._flag is None or self._flag[0] is not flags:
             self._flag = (flags, ctypes.c_int32.from_address(_cpu_pointer(flags) + 4 * (flags.shape[0] - 1)))
-        ti.sync()
-        return self._flag[1].value != 0
+        return self._flag[1]
