@@ -20,7 +20,8 @@ consecutive in memory unless it wraps, so it is one range of sorted_particle.
 
 Scratch arrays (ScratchArgs): ``cell_count`` [C] i32 (then the scatter's cursors), ``cell_start`` [C + 1] i32,
 ``sorted_particle`` [N] i32, and in that sorted order copies of each particle's
-``sorted_x`` [N] vec3 (world) and ``sorted_body`` [N] i32, ``sorted_run_end`` [N] i32 (mark_run_end), ``grid_dims`` = (D, C, scan chunks) i32,
+``sorted_x`` [N] vec3 (world) and ``sorted_body`` [N] i32, and ``sorted_run_end`` [N] i32
+(mark_run_end); ``grid_dims`` = (D, C, scan chunks) i32,
 ``grid_params`` = (1/h, ...) float (neighbours.py uses the rest). ``GridShape`` sizes them on the host.
 """
 

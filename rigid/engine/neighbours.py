@@ -24,8 +24,8 @@ Scratch arrays (ScratchArgs): ``nbr_count`` [N] i32, ``nbr_list`` [N·K] i32 (pa
 candidate, first nbr_flags[2] of them), ``nbr_flags`` [5 + 2B] i32 (1: rebuild at the next
 placement, MAYBE while note_motion leaves it to close_pairs_moved; builds so far; active particles; then per body b, [3 + b] = 1 when b sleeps and a
 body that does not rest has it in its lists, and [3 + B + b] .. [3 + B + b + 1] its run of the
-active list, on one thread: pair_once.py; [4 + 2B] = 1 once a list overflowed (list_growth.py); one array, as the x64 backend takes at most 64
-argument elements), ``grid_params`` [1], [2] = the skin, the relative motion allowed before a
+active list, on one thread: pair_once.py; [4 + 2B] = 1 once a list overflowed (list_growth.py);
+one array, as the x64 backend takes at most 64 argument elements), ``grid_params`` [1], [2] = the skin, the relative motion allowed before a
 rebuild (the skin less 2 % for round-off); per body [B]: ``build_pose`` = its x (3) and R
 (9, row by row) at the last build, ρ_b, its largest |r0|, then (motion.note_motion, each substep) e_b,
 the bound on its particles' motion since the build, and (when it asks close_pairs_moved)
