@@ -101,6 +101,13 @@ def _visit(model: ti.template(), state: ti.template(), i, p, r_a, x_a, v_a, w_a,
 
 
 @ti.func
+def _in_contact(f, e):
+    """A pair that touches (stored energy, or a force): the sums take only these, so which other
+    candidates a list holds (its skin, when it was built) changes no bit of them."""
+    return e > 0 or f[0] != 0 or f[1] != 0 or f[2] != 0
+
+
+@ti.func
 def pair_forces(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(), i,
                 wake: ti.template(), waking=0):
     """Σ over slot i's neighbours (other bodies' particles, neighbours.py) of (force, couple about
@@ -123,9 +130,10 @@ def pair_forces(model: ti.template(), state: ti.template(), world: ti.template()
         for t in range(n):
             fp, cp, ep = _visit(model, state, i, p, r_a, x_a, v_a, w_a, k, kd, mu, scratch.nbr_list[i * stride + t],
                                 waker, wake)
-            f += fp
-            couple += cp
-            energy += ep
+            if _in_contact(fp, ep):  # (zeros added or not would round the sums differently)
+                f += fp
+                couple += cp
+                energy += ep
     else:  # the same candidates, in the same order, from the grid of the last build
         g = grid.cell_coords(scratch, scratch.build_x[i])
         for r in range(grid.ROWS_AROUND):
@@ -134,9 +142,10 @@ def pair_forces(model: ti.template(), state: ti.template(), world: ti.template()
                 if scratch.sorted_body[slot] != a:
                     fp, cp, ep = _visit(model, state, i, p, r_a, x_a, v_a, w_a, k, kd, mu,
                                         scratch.sorted_particle[slot], waker, wake)
-                    f += fp
-                    couple += cp
-                    energy += ep
+                    if _in_contact(fp, ep):
+                        f += fp
+                        couple += cp
+                        energy += ep
     return f, couple, energy
 
 

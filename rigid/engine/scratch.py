@@ -14,7 +14,7 @@ from .grid import GridShape
 def make_scratch(model, config, pairs: bool, materials: bool):
     """(ScratchArgs pack, its arrays by name, the GridShape, the grid's cell size in m)."""
     B, N, K = model.num_bodies, model.num_particles, model.num_blocks
-    diameter = 2.0 * max(float(model.radius_np.max()), 1e-6)
+    diameter = particle_diameter(model)
     skin = neighbours.SKIN_FRACTION * diameter
     cell = diameter + skin
     span = 2.0 * config.wall / cell + 2 if config.walls else 0.0
@@ -33,6 +33,11 @@ def make_scratch(model, config, pairs: bool, materials: bool):
                   nbr_flags=zeros(5 + 2 * B if pairs else 3, "i"), active=zeros(paired, "i"), build_pose=device_array(build_pose(model), 15),
                   rk=zeros(2 * B, "v13"), contacts=zeros(N + 2 * K + 2 * B if materials else 1, "i"))
     return ScratchArgs()(**{name: arrays[name] for name in ScratchArgs.NAMES}), arrays, shape, cell
+
+
+def particle_diameter(model) -> float:
+    """The largest particle diameter (the grid's cells are this plus the lists' skin)."""
+    return 2.0 * max(float(model.radius_np.max()), 1e-6)
 
 
 def build_pose(model) -> np.ndarray:

@@ -23,7 +23,8 @@ from .arrays import clear, download, host_float, upload
 from .grab import default_spring, holding, released
 from .kernels import engine_kernels
 from .list_growth import ListGrowth
-from .scratch import make_scratch
+from .scratch import make_scratch, particle_diameter
+from .skin import AdaptiveSkin
 from .launch import run_chunk, schedule_launches
 from .model import BodyParts, Model
 from .rows import FrameRows, split_rows, with_energies
@@ -68,7 +69,7 @@ class Simulator:
         self.scratch, self._scratch_arrays, self.grid_shape, self.cell_size = make_scratch(
             self.model, config, pairs, self.materials)
         self._launches = None
-        self._lists = ListGrowth(N, pairs)
+        self._lists, self._skin = ListGrowth(N, pairs), AdaptiveSkin(particle_diameter(self.model), pairs)
         self.schedule = choose_schedule(N, pairs, schedule)
         self._surface_out = np.empty((max(self.model.num_surface, 1), 3), host_float())
         self.reset()
@@ -202,6 +203,7 @@ class Simulator:
         if self._params_version != self.params.version:  # a runtime parameter changed: wake every body
             self.wake()
         self._lists.run(self, lambda: run_chunk(self._prepared_launches(), self.schedule, frames, substeps))
+        self._skin.after_chunk(self, frames * substeps)  # skin.py
 
     def _prepared_launches(self) -> dict:
         """The launches of this Simulator's schedule, made on first use (a Simulator only read
