@@ -10,8 +10,11 @@ skin. Measured on that pile: 266-275 ns a particle-substep with the skin at 0.5 
 16 % slower: their lists were reused less).
 
 So after each chunk of frames the host looks at the chunk's rebuilds per substep: at
-``SHRINK_ABOVE`` or more the skin halves, down to ``MIN_FRACTION`` of a diameter; below
-``GROW_BELOW`` it doubles, up to neighbours.SKIN_FRACTION. The grid's cells follow (the
+``SHRINK_ABOVE`` or more (the lists were not reused) the skin halves, down to ``MIN_FRACTION``
+of a diameter; below ``GROW_BELOW`` it doubles, up to neighbours.SKIN_FRACTION. (Halving at
+0.5 rebuilds a substep trapped the 8,000-body pile: shrunk while it landed, its thinner lists
+were rebuilt 0.28 times a substep, too often to grow back at 0.1, and it ran 80 ns a
+particle-substep instead of 63.) The grid's cells follow (the
 diameter plus the skin), and the lists are rebuilt at the next placement. The skin changes
 which pairs a list holds beyond contact, never the sums: each runs over the touching pairs
 in slot order (and a list that overflows grows, list_growth.py), so a run keeps its bits,
@@ -22,8 +25,8 @@ from __future__ import annotations
 from . import neighbours
 from .arrays import download, upload
 
-SHRINK_ABOVE = 0.5  # rebuilds a substep
-GROW_BELOW = 0.1
+SHRINK_ABOVE = 0.95  # rebuilds a substep: the lists were (nearly) never reused
+GROW_BELOW = 0.5  # reused at least once on average: a wider skin may pay again
 MIN_FRACTION = 0.1  # of the largest particle diameter
 
 
