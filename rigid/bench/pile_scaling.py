@@ -15,14 +15,13 @@ import time
 
 # (bodies, sphere scale): layers of 5 x 5 at 0.15 m; of 13 x 13, 27 x 27, 38 x 38 below.
 SIZES = ((27, 0.15), (125, 0.15), (1000, 0.07), (8000, 0.035), (24000, 0.025))
-CONTACT_FRAME = 60
 
 
 def pile_point(units, count: int, scale: float) -> dict:
     import taichi as ti
     from rigid.engine.simulator import Simulator
 
-    from .many import _step_until, time_steps
+    from .many import CONTACT_FRAME, _step_until, time_steps
     from .peers import scene
 
     start = time.perf_counter()

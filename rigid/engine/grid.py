@@ -21,8 +21,8 @@ consecutive in memory unless it wraps, so it is one range of sorted_particle.
 Scratch arrays (ScratchArgs): ``cell_count`` [C] i32 (then the scatter's cursors), ``cell_start`` [C + 1] i32,
 ``sorted_particle`` [N] i32, and in that sorted order copies of each particle's
 ``sorted_x`` [N] vec3 (world) and ``sorted_body`` [N] i32, and ``sorted_run_end`` [N] i32
-(mark_run_end); ``grid_dims`` = (D, C, scan chunks) i32,
-``grid_params`` = (1/h, ...) float (neighbours.py uses the rest). ``GridShape`` sizes them on the host.
+(mark_runs); ``grid_dims`` = (D, C, scan chunks) i32,
+``grid_params`` = (1/h, ...) float (neighbours.py uses the rest; scratch.grid_params makes them). ``GridShape`` sizes them on the host.
 """
 
 from dataclasses import dataclass
@@ -110,16 +110,17 @@ def sort_cell(s: ti.template(), c):
 
 
 @ti.func
-def mark_run_end(s: ti.template(), k, next_end, cell_end):
-    """sorted_run_end[k]: where the run of body sorted_body[k] that starts at or before k ends
-    in k's cell (a cell is sorted by slot, and a body's slots are contiguous, so its particles
-    in a cell form one run): the list build passes over its own body's particles in one step.
-    ``next_end`` is sorted_run_end[k + 1] (read only when k + 1 is in the cell)."""
-    end = k + 1
-    if end < cell_end:
-        if s.sorted_body[end] == s.sorted_body[k]:
-            end = next_end
-    s.sorted_run_end[k] = end
+def mark_runs(s: ti.template(), c):
+    """sorted_run_end over cell c: for each of its particles, where the run of its body's particles
+    in the cell ends (a cell is sorted by slot, and a body's slots are contiguous, so its
+    particles in a cell form one run): the list build passes over its own body's in one step."""
+    lo, hi = s.cell_start[c], s.cell_start[c + 1]
+    end = hi
+    for t in range(hi - lo):  # backwards: a run's end is known from its last particle's
+        k = hi - 1 - t
+        if k + 1 < hi and s.sorted_body[k + 1] != s.sorted_body[k]:
+            end = k + 1
+        s.sorted_run_end[k] = end
 
 
 @ti.func
@@ -156,15 +157,8 @@ def finish_serial(s: ti.template(), model: ti.template(), state: ti.template(), 
         scatter_particle(s, state, i)
     for k in range(N):
         gather_sorted(s, model, state, k)
-    next_cell, cell_end = -1, N
-    for t in range(N):  # backwards: each run's end is known from its last particle's
-        k = N - 1 - t
-        g = cell_coords(s, s.sorted_x[k])  # the copy of its position: the same cell
-        c = cell_index(s, g[0], g[1], g[2])
-        if c != next_cell:
-            cell_end = k + 1
-        mark_run_end(s, k, s.sorted_run_end[(k + 1) % N], cell_end)
-        next_cell = c
+    for c in range(C):
+        mark_runs(s, c)
 
 
 @ti.func
@@ -181,9 +175,7 @@ def finish_parallel(s: ti.template(), model: ti.template(), state: ti.template()
         lo, hi = s.cell_start[c], s.cell_start[c + 1]
         for k in range(lo, hi):
             gather_sorted(s, model, state, k)
-        for t in range(hi - lo):  # backwards, as in finish_serial
-            k = hi - 1 - t
-            mark_run_end(s, k, s.sorted_run_end[(k + 1) % state.particle_x.shape[0]], hi)
+        mark_runs(s, c)
 
 
 @ti.func

@@ -23,7 +23,7 @@ import ctypes
 import numpy as np
 import taichi as ti
 
-from .arrays import ScratchArgs, StateArgs, _cpu_pointer, byte_size, clear, download, upload, zeros
+from .arrays import IntCell, ScratchArgs, StateArgs, _cpu_pointer, byte_size, clear, download, upload, zeros
 
 MAX_NEIGHBOURS = 64  # list slots per particle at most
 MAX_LIST_BYTES = 1 << 30  # and at most this much memory for the lists
@@ -46,14 +46,16 @@ class ListGrowth:
         while self.can_grow(sim._scratch_arrays):
             if self._copy is None:
                 self._copy = Snapshot(self._kept(sim))
-            self._copy.set_flag(sim._scratch_arrays["nbr_flags"], 0)  # only this chunk's builds count
+                flags = sim._scratch_arrays["nbr_flags"]
+                self._overflowed, self._rebuild = IntCell(flags, -1), IntCell(flags, 0)
+            self._overflowed.value = 0  # only this chunk's builds count
             self._copy.save()
             run_chunk()
-            if not self._copy.flag(sim._scratch_arrays["nbr_flags"]):
+            if not self._overflowed.value:
                 return
             self._grow(sim)
             self._copy.restore()
-            sim._scratch_arrays["nbr_flags"][0] = 1  # rebuild (with the longer lists) at the first placement
+            self._rebuild.value = 1  # rebuild (with the longer lists) at the first placement
         run_chunk()
 
     # What a chunk changes and keeps: the bodies' state, the materials' springs on the planes and,
@@ -85,7 +87,6 @@ class Snapshot:
         self.cpu = all(pointer is not None for pointer, _n in where)
         self.copies = [np.empty(n, np.uint8) for _p, n in where] if self.cpu else [None] * len(arrays)
         self.moves = [(c.ctypes.data, p, n) for c, (p, n) in zip(self.copies, where)] if self.cpu else []
-        self._flag = None
 
     def save(self) -> None:
         if not self.cpu:
@@ -103,22 +104,3 @@ class Snapshot:
         ti.sync()
         for copy, pointer, n in self.moves:
             ctypes.memmove(pointer, copy, n)
-
-    def flag(self, flags) -> bool:
-        """The last element of the i32 array ``flags`` (the lists' overflow flag) is set."""
-        if not self.cpu:
-            return bool(download(flags)[-1])
-        ti.sync()
-        return self._last(flags).value != 0
-
-    def set_flag(self, flags, value: int) -> None:
-        if not self.cpu:
-            flags[flags.shape[0] - 1] = value
-            return
-        ti.sync()
-        self._last(flags).value = value
-
-    def _last(self, flags):
-        if self._flag is None or self._flag[0] is not flags:
-            self._flag = (flags, ctypes.c_int32.from_address(_cpu_pointer(flags) + 4 * (flags.shape[0] - 1)))
-        return self._flag[1]

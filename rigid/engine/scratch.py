@@ -12,11 +12,10 @@ from .grid import GridShape
 
 
 def make_scratch(model, config, pairs: bool, materials: bool):
-    """(ScratchArgs pack, its arrays by name, the GridShape, the grid's cell size in m)."""
+    """(ScratchArgs pack, its arrays by name, the GridShape)."""
     B, N, K = model.num_bodies, model.num_particles, model.num_blocks
     diameter = particle_diameter(model)
-    skin = neighbours.SKIN_FRACTION * diameter
-    cell = diameter + skin
+    cell = diameter + neighbours.SKIN_FRACTION * diameter
     span = 2.0 * config.wall / cell + 2 if config.walls else 0.0
     shape = GridShape.for_particles(N, pairs, span)
     lists = N * neighbours.NEIGHBOURS_PER_PARTICLE if pairs else 1
@@ -28,11 +27,18 @@ def make_scratch(model, config, pairs: bool, materials: bool):
                   sorted_body=zeros(paired, "i"), sorted_run_end=zeros(paired, "i"),
                   chunk_total=zeros(shape.num_chunks + 1, "i"),
                   grid_dims=device_array(np.array([shape.dim, shape.num_cells, shape.num_chunks]), dtype=ti.i32),
-                  grid_params=device_array(np.array([1.0 / cell, skin, neighbours.ALLOWED_MOTION * skin])),
+                  grid_params=device_array(grid_params(diameter, neighbours.SKIN_FRACTION)),
                   nbr_count=zeros(paired, "i"), nbr_list=zeros(lists, "i"), build_x=zeros(paired, "v3"),
                   nbr_flags=zeros(5 + 2 * B if pairs else 3, "i"), active=zeros(paired, "i"), build_pose=device_array(build_pose(model), 15),
                   rk=zeros(2 * B, "v13"), contacts=zeros(N + 2 * K + 2 * B if materials else 1, "i"))
-    return ScratchArgs()(**{name: arrays[name] for name in ScratchArgs.NAMES}), arrays, shape, cell
+    return ScratchArgs()(**{name: arrays[name] for name in ScratchArgs.NAMES}), arrays, shape
+
+
+def grid_params(diameter: float, skin_fraction: float) -> np.ndarray:
+    """grid_params for a skin of ``skin_fraction`` diameters: 1 / the cell (the diameter plus the
+    skin), the skin, the relative motion allowed before a rebuild (grid.py, neighbours.py)."""
+    skin = skin_fraction * diameter
+    return np.array([1.0 / (diameter + skin), skin, neighbours.ALLOWED_MOTION * skin])
 
 
 def particle_diameter(model) -> float:

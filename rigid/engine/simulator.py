@@ -66,10 +66,10 @@ class Simulator:
         self.state = State(B, N, materials)
         self.params = Params(config)
         self.rows = FrameRows(B)
-        self.scratch, self._scratch_arrays, self.grid_shape, self.cell_size = make_scratch(
-            self.model, config, pairs, self.materials)
+        self.scratch, self._scratch_arrays, self.grid_shape = make_scratch(self.model, config, pairs, self.materials)
         self._launches = None
-        self._lists, self._skin = ListGrowth(N, pairs), AdaptiveSkin(particle_diameter(self.model), pairs)
+        self._lists = ListGrowth(N, pairs)
+        self._skin = AdaptiveSkin(particle_diameter(self.model), pairs, self._scratch_arrays)
         self.schedule = choose_schedule(N, pairs, schedule)
         self._surface_out = np.empty((max(self.model.num_surface, 1), 3), host_float())
         self.reset()

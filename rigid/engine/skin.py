@@ -23,7 +23,8 @@ whatever its chunks.
 from __future__ import annotations
 
 from . import neighbours
-from .arrays import download, upload
+from .arrays import IntCell, upload
+from .scratch import grid_params
 
 SHRINK_ABOVE = 0.95  # rebuilds a substep: the lists were (nearly) never reused
 GROW_BELOW = 0.5  # reused at least once on average: a wider skin may pay again
@@ -31,16 +32,17 @@ MIN_FRACTION = 0.1  # of the largest particle diameter
 
 
 class AdaptiveSkin:
-    def __init__(self, diameter: float, pairs: bool):
+    def __init__(self, diameter: float, pairs: bool, scratch_arrays: dict):
         self.diameter, self.pairs = diameter, pairs
         self.fraction = neighbours.SKIN_FRACTION
         self._builds = 0
+        self._counter = IntCell(scratch_arrays["nbr_flags"], 1) if pairs else None  # builds so far
 
     def after_chunk(self, sim, substeps: int) -> None:
         """Adapt the skin to the rebuilds of the chunk just run (``substeps`` in all)."""
         if not self.pairs or substeps <= 0:
             return
-        builds = sim.neighbour_builds
+        builds = self._counter.value
         rate, self._builds = (builds - self._builds) / substeps, builds
         fraction = self.fraction
         if rate >= SHRINK_ABOVE:
@@ -53,9 +55,5 @@ class AdaptiveSkin:
     def set(self, sim, fraction: float) -> None:
         """Skin = ``fraction`` of a diameter from the next placement on (the lists rebuilt there)."""
         self.fraction = fraction
-        skin = fraction * self.diameter
-        params = sim._scratch_arrays["grid_params"]
-        values = download(params)
-        values[:3] = (1.0 / (self.diameter + skin), skin, neighbours.ALLOWED_MOTION * skin)
-        upload(params, values)
+        upload(sim._scratch_arrays["grid_params"], grid_params(self.diameter, fraction))
         sim._scratch_arrays["nbr_flags"][0] = 1
