@@ -182,6 +182,7 @@ def _sweep_particle(model: ti.template(), state: ti.template(), scratch: ti.temp
     zero = ti.Vector.zero(float, 3)
     p = state.particle_x[i]
     r_a, x_a, v_a, w_a = body
+    reach_max = r_a + scratch.grid_params[3]
     f = scratch.particle_f[i]  # the pairs with lower slots, given in their turns
     couple = scratch.particle_couple[i]
     n = scratch.nbr_count[i]
@@ -192,7 +193,7 @@ def _sweep_particle(model: ti.template(), state: ti.template(), scratch: ti.temp
             if j < i:  # the rest are below i: pairs evaluated in their turns
                 break
             if _wanted(model, state, a_rests, j, sleeping):
-                fp, c, _e = pair_between(model, state, i, p, r_a, x_a, v_a, w_a, k, kd, mu, j)
+                fp, c, _e = pair_between(model, state, i, p, r_a, x_a, v_a, w_a, k, kd, mu, j, reach_max)
                 if _touching(fp):
                     f += fp
                     couple += (c - p).cross(fp)
@@ -207,7 +208,7 @@ def _sweep_particle(model: ti.template(), state: ti.template(), scratch: ti.temp
             for slot in range(lo, hi):
                 j = scratch.sorted_particle[slot]
                 if scratch.sorted_body[slot] != a and _wanted(model, state, a_rests, j, sleeping):
-                    fp, c, _e = pair_between(model, state, i, p, r_a, x_a, v_a, w_a, k, kd, mu, j)
+                    fp, c, _e = pair_between(model, state, i, p, r_a, x_a, v_a, w_a, k, kd, mu, j, reach_max)
                     if _touching(fp):
                         f += fp
                         couple += (c - p).cross(fp)

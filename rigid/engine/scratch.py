@@ -36,9 +36,10 @@ def make_scratch(model, config, pairs: bool, materials: bool):
 
 def grid_params(diameter: float, skin_fraction: float) -> np.ndarray:
     """grid_params for a skin of ``skin_fraction`` diameters: 1 / the cell (the diameter plus the
-    skin), the skin, the relative motion allowed before a rebuild (grid.py, neighbours.py)."""
+    skin), the skin, the relative motion allowed before a rebuild (grid.py, neighbours.py), the
+    largest particle radius (pair_stages.pair_between)."""
     skin = skin_fraction * diameter
-    return np.array([1.0 / (diameter + skin), skin, neighbours.ALLOWED_MOTION * skin])
+    return np.array([1.0 / (diameter + skin), skin, neighbours.ALLOWED_MOTION * skin, 0.5 * diameter])
 
 
 def particle_diameter(model) -> float:
