@@ -14,7 +14,7 @@ Two schedules run the same stages (stages.py), chosen by schedule.py:
 
 import taichi as ti
 
-from . import grid, material_stages, motion, neighbours, pair_once, pair_stages, schemes, sleep, stages
+from . import grid, material_stages, motion, neighbours, pair_once, pair_parts, pair_stages, schemes, sleep, stages
 from .arrays import ModelArgs, RowArgs, ScratchArgs, StateArgs, SurfaceArgs, WorldArgs
 from .matvec import body_offset, matvec
 from .state import DT
@@ -57,6 +57,7 @@ class EngineKernels:
         # contacts keep per-contact memory: static friction's springs, the counts of m_eff).
         sleeping = pairs and not rk4 and not materials
         update = schemes.symplectic_update if scheme == "symplectic" else schemes.euler_update
+        parts = pair_parts.parts_here()  # 0 off a CPU
 
         @ti.func
         def place_all(model: ti.template(), state: ti.template(), scratch: ti.template(), parallel: ti.template(),
@@ -107,7 +108,9 @@ class EngineKernels:
                 for t in range(neighbours.num_active(scratch)):  # each writes its own slot: any order
                     material_stages.pair_stage(model, state, world, scratch, scratch.active[t])
             elif ti.static(pairs):
-                if ti.static(parallel):  # each particle's full list (its own slot: any order)
+                if ti.static(parallel and parts):  # a CPU: the sweep in parts (pair_parts.py)
+                    pair_parts.parallel_pairs(model, state, world, scratch, sleeping, parts)
+                elif ti.static(parallel):  # each particle's full list (its own slot: any order)
                     pair_stages.visit_all(model, state, world, scratch, sleeping)
                 else:  # on one thread, each pair once (pair_once.py)
                     if ti.static(sleeping):

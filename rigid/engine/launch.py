@@ -21,6 +21,7 @@ not as expected it falls back to the plain call, which gives the same results.
 from __future__ import annotations
 
 from .arrays import _cpu_pointer, byte_size
+from .threads import pin_workers
 
 
 class PreparedLaunch:
@@ -52,6 +53,7 @@ def schedule_launches(schedule: str, kernels, model, state, world, scratch, rows
     (``run_frames``); "parallel", a substep and a frame's end (``substep``, ``finish_frame``)."""
     if schedule == "serial":
         return dict(run_frames=PreparedLaunch(kernels.run_frames, model, state, world, scratch, rows, 1, 1))
+    pin_workers()  # one CPU worker to a core (threads.py), or a parallel loop often runs on one
     return dict(substep=PreparedLaunch(kernels.substep, model, state, world, scratch),
                 finish_frame=PreparedLaunch(kernels.finish_frame, model, state, world, scratch, rows, 0))
 

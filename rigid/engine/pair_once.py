@@ -124,13 +124,13 @@ def _wanted(model: ti.template(), state: ti.template(), a_rests, j, sleeping: ti
 
 
 @ti.func
-def _touching(f):
+def touching(f):
     """A pair's force is exactly zero when apart (then its couple is zero too)."""
     return f[0] != 0 or f[1] != 0 or f[2] != 0
 
 
 @ti.func
-def _give(state: ti.template(), scratch: ti.template(), j, fi, c):
+def give(state: ti.template(), scratch: ti.template(), j, fi, c):
     """Particle j's side of a pair whose force on the other side is fi, at the contact point c."""
     fj = -fi
     scratch.particle_f[j] += fj
@@ -160,8 +160,8 @@ def sweep(model: ti.template(), state: ti.template(), world: ti.template(), scra
                 body = (model.particle_radius[b], state.x[b], state.v[b], state.omega[b])  # read once a body
                 first, end = neighbours.body_active_range(state, scratch, b)
                 for t in range(first, end):
-                    _sweep_particle(model, state, scratch, scratch.active[t], b, a_rests, body, k, kd, mu, stride,
-                                    sleeping)
+                    sweep_particle(model, state, scratch, scratch.active[t], b, a_rests, body, k, kd, mu, stride,
+                                   sleeping, state.particle_x.shape[0])
     else:
         for t in range(neighbours.num_active(scratch)):
             i = scratch.active[t]
@@ -171,14 +171,16 @@ def sweep(model: ti.template(), state: ti.template(), world: ti.template(), scra
             i = scratch.active[t]
             a = model.particle_body[i]
             body = (model.particle_radius[a], state.x[a], state.v[a], state.omega[a])
-            _sweep_particle(model, state, scratch, i, a, False, body, k, kd, mu, stride, sleeping)
+            sweep_particle(model, state, scratch, i, a, False, body, k, kd, mu, stride, sleeping,
+                           state.particle_x.shape[0])
 
 
 @ti.func
-def _sweep_particle(model: ti.template(), state: ti.template(), scratch: ti.template(), i, a, a_rests, body: ti.template(),
-                    k, kd, mu, stride, sleeping: ti.template()):
+def sweep_particle(model: ti.template(), state: ti.template(), scratch: ti.template(), i, a, a_rests, body: ti.template(),
+                   k, kd, mu, stride, sleeping: ti.template(), give_end):
     """The sweep's turn of active particle i (of body a, resting or not; ``body``: its (radius, x,
-    v, ω)): its pairs with higher slots evaluated and given, added to what the lower slots gave it."""
+    v, ω)): its pairs with higher slots evaluated and given (to slots below ``give_end`` only:
+    pair_parts.py), added to what the lower slots gave it."""
     zero = ti.Vector.zero(float, 3)
     p = state.particle_x[i]
     r_a, x_a, v_a, w_a = body
@@ -194,11 +196,11 @@ def _sweep_particle(model: ti.template(), state: ti.template(), scratch: ti.temp
                 break
             if _wanted(model, state, a_rests, j, sleeping):
                 fp, c, _e = pair_between(model, state, i, p, r_a, x_a, v_a, w_a, k, kd, mu, j, reach_max)
-                if _touching(fp):
+                if touching(fp):
                     f += fp
                     couple += (c - p).cross(fp)
-                    if scratch.nbr_count[j] <= stride:  # else j's walk sums it itself
-                        _give(state, scratch, j, fp, c)
+                    if j < give_end and scratch.nbr_count[j] <= stride:  # else j's walk sums it itself
+                        give(state, scratch, j, fp, c)
     else:  # the grid walk of pair_stages.pair_forces: every pair of i, summed here
         f = zero
         couple = zero
@@ -209,10 +211,10 @@ def _sweep_particle(model: ti.template(), state: ti.template(), scratch: ti.temp
                 j = scratch.sorted_particle[slot]
                 if scratch.sorted_body[slot] != a and _wanted(model, state, a_rests, j, sleeping):
                     fp, c, _e = pair_between(model, state, i, p, r_a, x_a, v_a, w_a, k, kd, mu, j, reach_max)
-                    if _touching(fp):
+                    if touching(fp):
                         f += fp
                         couple += (c - p).cross(fp)
-                        if j > i and scratch.nbr_count[j] <= stride:
-                            _give(state, scratch, j, fp, c)
+                        if j > i and j < give_end and scratch.nbr_count[j] <= stride:
+                            give(state, scratch, j, fp, c)
     scratch.particle_f[i] = f
     scratch.particle_couple[i] = couple

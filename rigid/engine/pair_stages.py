@@ -170,10 +170,11 @@ def pair_stage(model: ti.template(), state: ti.template(), world: ti.template(),
 
 
 @ti.func
-def pair_wave(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(), wave):
+def pair_wave(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(), wave,
+              gate=1):
     """Stage 3a with sleeping bodies, pass ``wave``: 0, the awake bodies' particles (a moving body
-    marks the sleepers it touches, sleep.py); 1, the sleepers woken in pass 0."""
-    for t in range(neighbours.num_active(scratch)):  # each writes its own slot: any order
+    marks the sleepers it touches, sleep.py); 1, the sleepers woken in pass 0 (``gate`` 0: none)."""
+    for t in range(neighbours.num_active(scratch) * gate):  # each writes its own slot: any order
         i = scratch.active[t]
         b = model.particle_body[i]
         if sleep.asleep(state, b) == (wave == 1) and (wave == 0 or not sleep.resting(state, b)):
@@ -182,12 +183,13 @@ def pair_wave(model: ti.template(), state: ti.template(), world: ti.template(), 
 
 @ti.func
 def visit_all(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(),
-              sleeping: ti.template()):
+              sleeping: ti.template(), gate=1):
     """Stage 3a in parallel (at a kernel's top level): each active particle sums its whole list,
-    writing its own slot (any order); with ``sleeping``, in two waves, each a top-level loop."""
+    writing its own slot (any order); with ``sleeping``, in two waves, each a top-level loop
+    (``gate`` 0 or 1, a run-time value: whether to run at all)."""
     if ti.static(not sleeping):
-        for t in range(neighbours.num_active(scratch)):
+        for t in range(neighbours.num_active(scratch) * gate):
             pair_stage(model, state, world, scratch, scratch.active[t], False)
     else:
         for wave in ti.static(range(2)):
-            pair_wave(model, state, world, scratch, wave)
+            pair_wave(model, state, world, scratch, wave, gate)

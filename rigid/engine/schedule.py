@@ -20,9 +20,14 @@ Bodies in contact, re-measured with this pipeline and its neighbour lists (piles
 spheres falling into the box, symplectic, sleeping off, 30 frames after 5, wall µs a substep on
 the 2-vCPU machine, two runs each): 16,800 particles serial 1,093 / parallel 1,595; 29,400:
 1,895-2,144 / 2,136-2,246; 42,000: 2,985-3,024 / 2,811-3,151; 84,000: 7,276-7,511 /
-5,806-7,473. The break-even is ~40k-60k particles: the neighbour lists cut the work per
-particle to ~60-90 ns, so the wake-ups weigh more than when the 16,384 of the earlier paths was
-measured. Bodies against the walls alone: ~1-3 ns a particle, break-even 2²⁰ (the earlier
+5,806-7,473. Re-measured with Taichi's workers pinned one to a core (threads.py: unpinned,
+both often ran on one vCPU) and the parallel pair stage as the sweep in parts (pair_parts.py),
+in contact at 1 s, µs a substep serial / parallel, one process each, medians of 3: the peers'
+piles (0.42 kg spheres) 5,250 particles 131 / 642, 16,800 624 / 971, 29,400 1,224 / 1,374,
+42,000 1,787 / 1,718; the handout's 1 kg particles (`--count N --scale 0.07`, spheres that
+sink into one another, more pairs a particle) 16,800 1,223 / 1,902, 29,400 3,758 / 3,227,
+42,000 6,653 / 5,426. A parallel substep has a fixed ~0.5 ms of wake-ups (about 20 loops), so
+the break-even is ~30k-42k particles: 2¹⁵. Bodies against the walls alone: ~1-3 ns a particle, break-even 2²⁰ (the earlier
 paths' ``scripts/bench.py`` crossover, not re-measured). Both are assumed to fall as 1/threads
 with more threads. A GPU always runs parallel (one GPU thread would run the whole scene).
 """
@@ -34,7 +39,7 @@ import taichi as ti
 
 # Particles from which two CPU threads beat one (see the module docstring).
 PARALLEL_MIN_PARTICLES_ALONE = 1 << 20  # bodies that touch only the static colliders
-PARALLEL_MIN_PARTICLES_PAIRS = 1 << 16  # bodies that collide with one another (16,384 before the lists)
+PARALLEL_MIN_PARTICLES_PAIRS = 1 << 15  # bodies that collide with one another (2¹⁶ before the workers were pinned)
 SCHEDULE_ENV = "RIGID_SCHEDULE"  # "serial" or "parallel" forces one (benchmarks, tests)
 
 

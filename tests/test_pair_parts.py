@@ -1,0 +1,109 @@
+"""The pair stage in parts (rigid.engine.pair_parts) and Taichi's workers pinned (threads.py).
+
+- Cut into 1, 2 or 3 parts by slot and run part after part, the sweep gives every particle the
+  one-thread sweep's (pair_once.sweep) force and couple on a pile in contact: to round-off
+  (fast math may contract the two places a pair is computed differently; with it off they
+  agree bit for bit, the module docstring says where that was checked). A pair lost at a
+  part's edge would take a whole contact force away, one counted twice would add one: the
+  largest differences are held to 1e-5 of the largest force. The test checks that pairs do
+  cross the parts' edges, so the collecting of the terms from below is what it exercises.
+- The forces of every pair cancel: each part's sum is antisymmetric too.
+- The parallel schedule's runs stay bit-reproducible with the parts, run after run.
+- The workers found by the probe are pinned to different CPUs (where there are two).
+"""
+import os
+
+import numpy as np
+import pytest
+
+from conftest import ASSETS
+
+PILE = dict(mesh=str(ASSETS / "sphere.obj"), count=64, scale=0.1, position=(0.0, -0.8, 0.0), sleep=False)
+_KERNELS: dict = {}
+
+
+def _kernels():
+    import taichi as ti
+
+    from rigid.engine import pair_once, pair_parts
+    from rigid.engine.arrays import ModelArgs, ScratchArgs, StateArgs, WorldArgs
+
+    if not _KERNELS:
+        M, S, W, C = ModelArgs(), StateArgs(), WorldArgs(), ScratchArgs()
+
+        @ti.kernel
+        def sweep(model: M, state: S, world: W, scratch: C):
+            ti.loop_config(serialize=True)
+            for _ in range(1):
+                pair_once.sweep(model, state, world, scratch, False)
+
+        @ti.kernel
+        def parts(model: M, state: S, world: W, scratch: C, count: ti.i32):
+            ti.loop_config(serialize=True)
+            for part in range(count):
+                pair_parts.sweep_part(model, state, world, scratch, part, count)
+
+        _KERNELS.update(sweep=sweep, parts=parts)
+    return _KERNELS
+
+
+def _forces(sim):
+    from rigid.engine.arrays import download
+
+    return download(sim._scratch_arrays["particle_f"]).copy(), download(sim._scratch_arrays["particle_couple"]).copy()
+
+
+def test_parts_give_the_sweeps_forces(sim_cache):
+    from rigid.engine.arrays import download
+
+    sim = sim_cache(**PILE)
+    sim.schedule = "serial"
+    sim.advance_frames(40)  # the pile formed: a hundred particles and more touch another body's
+    k = _kernels()
+    args = (sim.model.args, sim.state.args, sim.params.args, sim.scratch)
+    k["sweep"](*args)
+    f0, c0 = _forces(sim)
+    scale = np.abs(f0).max()
+    assert scale > 0 and np.count_nonzero(np.abs(f0).sum(1)) > 100
+    counts = download(sim._scratch_arrays["nbr_count"])
+    lists = download(sim._scratch_arrays["nbr_list"]).reshape(len(counts), -1)
+    N = sim.num_particles
+    for parts in (1, 2, 3):
+        k["parts"](*args, parts)
+        f, c = _forces(sim)
+        assert np.abs(f - f0).max() <= 1e-5 * scale, (parts, np.abs(f - f0).max())
+        assert np.abs(c - c0).max() <= 1e-5 * np.abs(c0).max(), parts
+        assert np.abs(f.sum(0)).max() <= 1e-4 * scale  # every pair's two forces cancel
+        edges = [N * p // parts for p in range(1, parts)]
+        crossing = sum(int(np.sum((lists[lo:, :][counts[lo:] > 0] < lo) & (lists[lo:, :][counts[lo:] > 0] >= 0)))
+                       for lo in edges)
+        assert parts == 1 or crossing > 0  # pairs across an edge: collect_from_below is exercised
+
+
+def test_parallel_runs_repeat_bit_for_bit(sim_cache):
+    runs = []
+    for _ in range(2):
+        sim = sim_cache(**PILE)
+        sim.schedule = "parallel"
+        sim.advance_frames(30)
+        runs.append(sim.snapshot())
+    for key in ("x", "q", "P", "L"):
+        assert np.array_equal(runs[0][key], runs[1][key]), key
+
+
+def test_workers_pinned_to_different_cpus(sim_cache):
+    import taichi as ti
+
+    from rigid.engine import threads
+
+    cpus = sorted(os.sched_getaffinity(0))
+    if len(cpus) < 2 or ti.lang.impl.current_cfg().cpu_max_num_threads < 2:
+        pytest.skip("one CPU: nothing to pin")
+    sim = sim_cache(**PILE)
+    sim.schedule = "parallel"
+    sim.step_frame()  # the parallel launches pin the workers
+    pinned = threads.pin_workers()  # once per process: the same answer again
+    assert len(pinned) == ti.lang.impl.current_cfg().cpu_max_num_threads
+    assert len(set(pinned)) == len(pinned) and set(pinned) <= set(cpus)
+    single = [t for t in os.listdir("/proc/self/task") if len(os.sched_getaffinity(int(t))) == 1]
+    assert len(single) >= len(pinned)
