@@ -41,7 +41,7 @@ def _kernels():
         def parts(model: M, state: S, world: W, scratch: C, count: ti.i32):
             ti.loop_config(serialize=True)
             for part in range(count):
-                pair_parts.sweep_part(model, state, world, scratch, part, count)
+                pair_parts.sweep_part(model, state, world, scratch, part, count, False)
 
         _KERNELS.update(sweep=sweep, parts=parts)
     return _KERNELS
@@ -107,3 +107,37 @@ def test_workers_pinned_to_different_cpus(sim_cache):
     assert len(set(pinned)) == len(pinned) and set(pinned) <= set(cpus)
     single = [t for t in os.listdir("/proc/self/task") if len(os.sched_getaffinity(int(t))) == 1]
     assert len(single) >= len(pinned)
+
+
+def _sleepers_and_drifters(sim_cache, sleep: bool):
+    """test_sleep's free-space row (three spheres that fall asleep, a fourth arriving to wake them)
+    and ten more spheres drifting together far above it, awake and apart: 3 of 14 bodies
+    sleep, fewer than one in pair_parts.MANY_ASLEEP, so the parts run with sleepers."""
+    from rigid.engine import pair_parts
+
+    row = tuple(dict(position=(0.45 * k, 0.0, 0.0)) for k in range(3)) + (
+        dict(position=(-1.2, 0.0, 0.0), initial_velocity=(1.0, 0.0, 0.0), initial_angular_velocity=(0.0, 0.0, 2.0)),)
+    drifting = tuple(dict(position=(0.5 * k - 2.0, 3.0, 0.0), initial_velocity=(0.0, 0.0, 0.5)) for k in range(10))
+    assert 3 * pair_parts.MANY_ASLEEP < len(row + drifting)
+    sim = sim_cache(mesh=str(ASSETS / "sphere.obj"), scale=0.15, particle_mass=0.01, velocity_damping_stiffness=12.0,
+                    friction_stiffness=0.4, integrator="symplectic", bodies=row + drifting, gravity=(0.0, 0.0, 0.0),
+                    walls=False, sleep=sleep)
+    sim.schedule = "parallel"
+    return sim
+
+
+def test_parts_with_a_few_sleepers_wake_them_and_keep_the_bits(sim_cache):
+    on, off = _sleepers_and_drifters(sim_cache, True), _sleepers_and_drifters(sim_cache, False)
+    start = on.snapshot()
+    P0 = start["P"].sum(axis=0)
+    slept = False
+    for _ in range(120):
+        on.step_frame()
+        off.step_frame()
+        slept |= bool(on.asleep()[:3].all())
+    assert slept and not on.asleep()[3:].any(), "the row never slept, or a drifter did: the test would prove nothing"
+    a, b = on.snapshot(), off.snapshot()
+    assert not on.asleep()[0] and np.abs(a["v"][:3]).max() > 0.1, "the struck sphere stayed asleep"
+    np.testing.assert_allclose(a["P"].sum(axis=0), P0, atol=1e-5 * np.abs(start["P"]).sum())
+    for key in ("x", "q", "P", "L"):  # the sleepers were exactly at rest: the same bits either way
+        assert np.array_equal(a[key], b[key]), key

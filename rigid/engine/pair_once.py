@@ -46,7 +46,7 @@ def any_asleep(state: ti.template()):
 
 
 @ti.func
-def _overlap(state: ti.template(), model: ti.template(), p, r_a, j):
+def overlap(state: ti.template(), model: ti.template(), p, r_a, j):
     p_j, r_b = state.particle_x[j], model.particle_radius[model.particle_body[j]]
     d = p_j - p
     dist2 = d.dot(d)
@@ -67,7 +67,7 @@ def _note_sleepers(model: ti.template(), state: ti.template(), scratch: ti.templ
             b = model.particle_body[j]
             if sleep.asleep(state, b):
                 neighbours.see_sleeper(scratch, b)
-                if waker and _overlap(state, model, p, r_a, j):
+                if waker and overlap(state, model, p, r_a, j):
                     sleep.mark_woken(state, b)
     else:
         g = grid.cell_coords(scratch, scratch.build_x[i])
@@ -77,7 +77,7 @@ def _note_sleepers(model: ti.template(), state: ti.template(), scratch: ti.templ
                 b = scratch.sorted_body[slot]
                 if b != a and sleep.asleep(state, b):
                     neighbours.see_sleeper(scratch, b)
-                    if waker and _overlap(state, model, p, r_a, scratch.sorted_particle[slot]):
+                    if waker and overlap(state, model, p, r_a, scratch.sorted_particle[slot]):
                         sleep.mark_woken(state, b)
 
 

@@ -24,13 +24,16 @@ out in space (a pile's lattice), so few pairs cross (on 1,000 spheres in contact
 
 Taichi's CPU backend hands out a parallel loop's iterations in blocks of at least 512
 (schedule.py), so a loop over a few parts would run on one thread: the parts loop runs over
-``parts × SPREAD`` iterations and each part is the first iteration of its block. Bodies
-asleep (sleep.py) need the waves of pair_stages.visit_all, which the parallel schedule keeps
-for a substep that has a sleeper (``note_asleep``).
+``parts × SPREAD`` iterations and each part is the first iteration of its block. With bodies
+asleep (sleep.py), the moving bodies first mark the sleepers they touch as woken
+(``wake_touched``, the waves' first pass without the forces), then the parts skip the pairs
+of two resting sleepers as the sweep does; once one body in MANY_ASLEEP sleeps, the parallel
+schedule runs the waves of pair_stages.visit_all instead, which pass over a resting sleeper
+at once (``note_asleep``).
 """
 import taichi as ti
 
-from . import neighbours, pair_once, pair_stages, stages
+from . import grid, neighbours, pair_once, pair_stages, sleep, stages
 from .pair_once import give, sweep_particle, touching
 from .pair_stages import pair_between
 
@@ -47,19 +50,59 @@ def parts_here() -> int:
     return max(1, cfg.cpu_max_num_threads) * PARTS_PER_THREAD
 
 
+MANY_ASLEEP = 4  # a body in this many asleep or more: the waves, which pass over resting sleepers at once
+
+
 @ti.func
 def note_asleep(state: ti.template(), scratch: ti.template()):
-    """1 if a body is asleep now, else 0: found by one thread, kept in nbr_flags (neighbours.py)
-    and read back, as a top-level loop hands its result to the next through memory."""
+    """0 if no body is asleep now, 1 if a few are, 2 if one in MANY_ASLEEP or more: found by one
+    thread, kept in nbr_flags (neighbours.py) and read back, as a top-level loop hands its result
+    to the next through memory."""
     slot = scratch.nbr_flags.shape[0] - 2
     ti.loop_config(serialize=True)
     for _ in range(1):
-        scratch.nbr_flags[slot] = pair_once.any_asleep(state)
+        count = 0
+        for b in range(state.x.shape[0]):
+            if sleep.asleep(state, b):
+                count += 1
+        mode = 0
+        if count > 0:
+            mode = 1
+        if count * MANY_ASLEEP >= state.x.shape[0]:
+            mode = 2
+        scratch.nbr_flags[slot] = mode
     return scratch.nbr_flags[slot]
 
 
 @ti.func
-def collect_from_below(model: ti.template(), state: ti.template(), scratch: ti.template(), lo, hi, k, kd, mu, stride):
+def wake_touched(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(), i):
+    """Active particle i of a moving awake body marks the sleeping bodies it touches as woken
+    (sleep.py; before the parts, so that each part reads final resting flags)."""
+    a = model.particle_body[i]
+    if not sleep.asleep(state, a) and sleep.moving(state, world, scratch, a):
+        p, r_a = state.particle_x[i], model.particle_radius[a]
+        stride = neighbours.list_stride(scratch, state)
+        n = scratch.nbr_count[i]
+        if n <= stride:
+            for t in range(n):
+                j = scratch.nbr_list[i * stride + t]
+                b = model.particle_body[j]
+                if sleep.asleep(state, b) and pair_once.overlap(state, model, p, r_a, j):
+                    sleep.mark_woken(state, b)
+        else:
+            g = grid.cell_coords(scratch, scratch.build_x[i])
+            for r in range(grid.ROWS_AROUND):
+                lo, hi = grid.around_range(scratch, g, r)
+                for slot in range(lo, hi):
+                    b = scratch.sorted_body[slot]
+                    if b != a and sleep.asleep(state, b) and pair_once.overlap(state, model, p, r_a,
+                                                                               scratch.sorted_particle[slot]):
+                        sleep.mark_woken(state, b)
+
+
+@ti.func
+def collect_from_below(model: ti.template(), state: ti.template(), scratch: ti.template(), lo, hi, k, kd, mu, stride,
+                       sleeping: ti.template()):
     """Each listed particle of [lo, hi): its force and couple set to the sum, ascending, of its
     touching pairs with slots below lo, each as the lower slot's sweep turn computes and gives
     it. An overflowed particle sums every pair itself at its turn."""
@@ -70,6 +113,9 @@ def collect_from_below(model: ti.template(), state: ti.template(), scratch: ti.t
         if n > 0:
             scratch.particle_f[i] = zero
             scratch.particle_couple[i] = zero
+            i_rests = False
+            if ti.static(sleeping):
+                i_rests = sleep.resting(state, model.particle_body[i])
             if n <= stride:
                 base = i * stride
                 for t in range(n):
@@ -77,6 +123,9 @@ def collect_from_below(model: ti.template(), state: ti.template(), scratch: ti.t
                     if j >= lo:  # sorted: the rest are the part's own or above
                         break
                     b = model.particle_body[j]
+                    if ti.static(sleeping):
+                        if i_rests and sleep.resting(state, b):
+                            continue  # two resting sleepers: skipped (pair_once._wanted)
                     r_b = model.particle_radius[b]
                     fj, c, _e = pair_between(model, state, j, state.particle_x[j], r_b, state.x[b], state.v[b],
                                              state.omega[b], k, kd, mu, i, r_b + r_max)
@@ -85,37 +134,48 @@ def collect_from_below(model: ti.template(), state: ti.template(), scratch: ti.t
 
 
 @ti.func
-def sweep_part(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(), part, parts):
-    """One part: collect_from_below, then the sweep's turns of its listed particles."""
+def sweep_part(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(), part, parts,
+               sleeping: ti.template()):
+    """One part: collect_from_below, then the sweep's turns of its listed particles (with
+    ``sleeping``, the pairs of two resting sleepers skipped, as pair_once's sweep does)."""
     n = state.particle_x.shape[0]
     lo, hi = (n * part) // parts, (n * (part + 1)) // parts
     k, kd, mu = stages.contact_constants(world)
     stride = neighbours.list_stride(scratch, state)
-    collect_from_below(model, state, scratch, lo, hi, k, kd, mu, stride)
+    collect_from_below(model, state, scratch, lo, hi, k, kd, mu, stride, sleeping)
     for i in range(lo, hi):
         if scratch.nbr_count[i] > 0:
             a = model.particle_body[i]
+            a_rests = False
+            if ti.static(sleeping):
+                a_rests = sleep.resting(state, a)
             body = (model.particle_radius[a], state.x[a], state.v[a], state.omega[a])
-            sweep_particle(model, state, scratch, i, a, False, body, k, kd, mu, stride, False, hi)
+            sweep_particle(model, state, scratch, i, a, a_rests, body, k, kd, mu, stride, sleeping, hi)
 
 
 @ti.func
 def sweep_parts(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(),
-                parts: ti.template(), gate):
+                parts: ti.template(), gate, sleeping: ti.template()):
     """Stage 3a at a kernel's top level: the parts side by side (``gate`` 0 or 1, a run-time value:
     whether to run at all)."""
     for t in range(parts * SPREAD * gate):
         if t % SPREAD == 0:
-            sweep_part(model, state, world, scratch, t // SPREAD, parts)
+            sweep_part(model, state, world, scratch, t // SPREAD, parts, sleeping)
 
 
 @ti.func
 def parallel_pairs(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(),
                    sleeping: ti.template(), parts: ti.template()):
-    """Stage 3a of the parallel schedule on a CPU (at a kernel's top level): the sweep in parts,
-    or with ``sleeping`` compiled in and a body asleep, the waves of pair_stages.visit_all."""
-    asleep = 0
+    """Stage 3a of the parallel schedule on a CPU (at a kernel's top level): the sweep in parts;
+    with ``sleeping`` compiled in and a few bodies asleep, after the moving bodies marked the
+    sleepers they touch (``wake_touched``); with many asleep, the waves of
+    pair_stages.visit_all, which pass over a resting sleeper's particles at once."""
     if ti.static(sleeping):
-        asleep = note_asleep(state, scratch)
-        pair_stages.visit_all(model, state, world, scratch, sleeping, asleep)
-    sweep_parts(model, state, world, scratch, parts, 1 - asleep)
+        mode = note_asleep(state, scratch)
+        few, many = ti.cast(mode == 1, ti.i32), ti.cast(mode == 2, ti.i32)
+        for t in range(neighbours.num_active(scratch) * few):
+            wake_touched(model, state, world, scratch, scratch.active[t])
+        pair_stages.visit_all(model, state, world, scratch, sleeping, many)
+        sweep_parts(model, state, world, scratch, parts, 1 - many, sleeping)
+    else:
+        sweep_parts(model, state, world, scratch, parts, 1, sleeping)
