@@ -15,9 +15,11 @@ particle receives the same terms in the same order as in the one-thread sweep:
 
 With Taichi's fast math, LLVM may round an expression inlined at two places differently, so
 the sums match the one-thread sweep's to round-off (bit for bit with ``fast_math=False``,
-checked on a 125- and a 1,000-sphere pile for 1, 2, 4 and 7 parts); a run stays
+checked on a 125-sphere pile in contact for 1, 2, 4 and 7 parts); a run stays
 bit-reproducible: a part's work is a fixed sequence whichever thread runs it, and like the
-sweep it sums only touching pairs, so the lists' skin and rebuilds change no bit. Only the
+sweep it sums only touching pairs, so the lists' skin and rebuilds change no bit. Which pairs
+cross an edge follows the number of parts (one per CPU thread), so runs on machines with
+other thread counts agree to round-off, as the schedules themselves do (schedule.py). Only the
 pairs across a part's lower edge are evaluated twice; slots follow bodies, which a scene lays
 out in space (a pile's lattice), so few pairs cross (on 1,000 spheres in contact, 2 parts:
 +16 % work on one thread).
