@@ -6,9 +6,12 @@
   blocks.py     particles in compact blocks (the unit of work and of summation)
   scratch.py    the arrays a substep rewrites (forces, grid, lists, RK4), sized for a scene
   stages.py     the stages of a substep; pair_stages.py: those only bodies in contact need;
-                pair_once.py: on one thread, each pair's force computed once for both sides
+                pair_once.py: on one thread, each pair's force computed once for both sides;
+                pair_parts.py: the same sweep cut into parts by slot for a CPU's threads
   contact.py    the one contact law; grid.py, scan.py, neighbours.py: the grid and neighbour lists;
-                motion.py: when the lists must be rebuilt (each body's motion, the pairs near enough to touch)
+                motion.py: when the lists must be rebuilt (each body's motion, the pairs near enough to touch);
+                list_growth.py: longer lists where one overflowed (the chunk run again); skin.py: the
+                lists' skin adapted to how often they are rebuilt
   sleep.py      bodies at rest stop being integrated until something touches them
   grab.py       the mouse's spring on one particle (runtime values in WorldArgs.values)
   materials.py  restitution e -> each contact's damper, the pair rules; damping_table.py: ζ'(e, ωΔt,
@@ -16,7 +19,8 @@
                 stages when a scene sets materials, planes or static meshes
   schemes.py    the updates from (F, τ): explicit Euler (TODO 5-7), symplectic Euler, RK4
   kernels.py    the kernels, cached per (TODO units, scheme; compact particle loops for the grader);
-                schedule.py: serial or parallel; launch.py: launches with their arguments set once
+                schedule.py: serial or parallel; launch.py: launches with their arguments set once;
+                threads.py: Taichi's CPU workers pinned one to a core for the parallel schedule
   rows.py       a row of state per frame, for the host; simulator.py: the facade
   units.py      the TODO units' contract; rotation.py, matvec.py: helpers; frontend.py: Taichi's
                 frontend made cheaper (quick decorators; each function's source and each AST
