@@ -165,6 +165,11 @@ class IntCell:
         self._cell = None if pointer is None else ctypes.c_int32.from_address(pointer + 4 * self.index)
 
     @property
+    def on_cpu(self) -> bool:
+        """Read through its address (cheap), not through Taichi."""
+        return self._cell is not None
+
+    @property
     def value(self) -> int:
         if self._cell is None:
             return int(self.array[self.index])

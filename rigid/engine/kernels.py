@@ -8,13 +8,15 @@ code between processes). Only code is captured: the TODO units and the scheme's 
 Two schedules run the same stages (stages.py), chosen by schedule.py:
 - serial: ``run_frames`` runs a chunk of frames (every substep of every frame, then the
   frame's row) as one launch on one thread: no thread wake-ups, no per-frame host work;
-- parallel: ``substep`` runs one substep with each stage a top-level (parallel) loop, and
-  ``finish_frame`` places the particles and writes the frame's row; the host launches them.
+- parallel: ``substep`` runs one substep with each stage a top-level (parallel) loop (on a
+  CPU, in parts that pass over the rebuild: split_substep.py), and ``finish_frame`` places
+  the particles and writes the frame's row; the host launches them.
 """
 
 import taichi as ti
 
-from . import grid, material_stages, motion, neighbours, pair_once, pair_parts, pair_stages, schemes, sleep, stages
+from . import (grid, material_stages, motion, neighbours, pair_once, pair_parts, pair_stages, schemes, sleep,
+               split_substep, stages)
 from .arrays import ModelArgs, RowArgs, ScratchArgs, StateArgs, SurfaceArgs, WorldArgs
 from .matvec import body_offset, matvec
 from .state import DT
@@ -26,11 +28,9 @@ _COMPACT = [False]  # compact_block_loops()
 
 def compact_block_loops(on: bool = True) -> None:
     """From now on in this process, compile one loop over a block's particles that tests every
-    plane, instead of four (no plane, one, three, all) chosen per block by the planes in reach:
-    the same forces (a plane out of reach gives exactly zero), ~17 % less to compile for a
-    lone body, slower for big bodies near no wall. For processes that compile much and run
-    little: the grader's children and --check (rigid.grading.checks), each compiling a
-    student's units for 480 substeps of ten particles."""
+    plane, not four chosen per block by the planes in reach: the same forces, ~17 % less to
+    compile for a lone body, slower for big bodies near no wall. For processes that compile much
+    and run little: the grader's children and --check (rigid.grading.checks)."""
     _COMPACT[0] = bool(on)
 
 
@@ -65,34 +65,40 @@ class EngineKernels:
             """Stages 1-2: the particles placed (when bodies collide: the active ones, unless
             ``everything`` (0 or 1, may be a run-time value) or a rebuild), and the neighbour lists
             rebuilt (grid and lists) if a particle may have moved half the skin since their last build."""
-            by_body = ti.static(sleeping and not parallel)  # the one-thread stages walk bodies (pair_once.py)
             if ti.static(pairs):
                 pair_stages.note_motion(model, state, scratch, parallel)
-                pair_stages.place_for_pairs(model, state, scratch, by_body, everything)
-                grid.clear_and_count(scratch, state, neighbours.rebuild_gate(scratch))
-                if ti.static(parallel):
-                    grid.finish_parallel(scratch, model, state, neighbours.rebuild_gate(scratch))
-                else:
-                    grid.finish_serial(scratch, model, state, neighbours.rebuild_gate(scratch))
-                neighbours.start_build(scratch)
-                for i in range(state.particle_x.shape[0] * neighbours.rebuild_gate(scratch)):
-                    neighbours.clear_list(scratch, i)
-                for i in range(state.particle_x.shape[0] * neighbours.rebuild_gate(scratch)):
-                    neighbours.build_list(model, state, scratch, i)
-                for i in range(state.particle_x.shape[0] * neighbours.rebuild_gate(scratch)):
-                    neighbours.finish_list(state, scratch, i)
-                for b in range(state.x.shape[0] * neighbours.rebuild_gate(scratch)):
-                    motion.keep_build_pose(scratch, state, b)
-                if ti.static(by_body):
-                    if neighbours.rebuild_gate(scratch):
-                        neighbours.index_active_by_body(model, state, scratch)
-                if ti.static(materials):  # a particle left out of the new lists has no pair contacts
-                    for i in range(state.particle_x.shape[0] * neighbours.rebuild_gate(scratch)):
-                        if scratch.nbr_count[i] == 0:
-                            scratch.contacts[i] = 0
-                neighbours.clear_flag(scratch)
+                place_and_build(model, state, scratch, parallel, everything)
             else:
                 stages.place_particles(model, state)
+
+        @ti.func
+        def place_and_build(model: ti.template(), state: ti.template(), scratch: ti.template(), parallel: ti.template(),
+                            everything):
+            """place_all after the motion test, bodies in contact (every loop gated by the rebuild flag)."""
+            by_body = ti.static(sleeping and not parallel)  # the one-thread stages walk bodies (pair_once.py)
+            pair_stages.place_for_pairs(model, state, scratch, by_body, everything)
+            grid.clear_and_count(scratch, state, neighbours.rebuild_gate(scratch))
+            if ti.static(parallel):
+                grid.finish_parallel(scratch, model, state, neighbours.rebuild_gate(scratch))
+            else:
+                grid.finish_serial(scratch, model, state, neighbours.rebuild_gate(scratch))
+            neighbours.start_build(scratch)
+            for i in range(state.particle_x.shape[0] * neighbours.rebuild_gate(scratch)):
+                neighbours.clear_list(scratch, i)
+            for i in range(state.particle_x.shape[0] * neighbours.rebuild_gate(scratch)):
+                neighbours.build_list(model, state, scratch, i)
+            for i in range(state.particle_x.shape[0] * neighbours.rebuild_gate(scratch)):
+                neighbours.finish_list(state, scratch, i)
+            for b in range(state.x.shape[0] * neighbours.rebuild_gate(scratch)):
+                motion.keep_build_pose(scratch, state, b)
+            if ti.static(by_body):
+                if neighbours.rebuild_gate(scratch):
+                    neighbours.index_active_by_body(model, state, scratch)
+            if ti.static(materials):  # a particle left out of the new lists has no pair contacts
+                for i in range(state.particle_x.shape[0] * neighbours.rebuild_gate(scratch)):
+                    if scratch.nbr_count[i] == 0:
+                        scratch.contacts[i] = 0
+            neighbours.clear_flag(scratch)
 
         @ti.func
         def forces_placed(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(),
@@ -287,13 +293,8 @@ class EngineKernels:
                 for c in ti.static(range(3)):
                     out[k, c] = p[c]
 
-        @ti.kernel
-        def copy_rows(rows: Rw, out: ti.types.ndarray(), energy_out: ti.types.ndarray()):
-            for f, b, c in ti.ndrange(out.shape[0], out.shape[1], out.shape[2]):
-                out[f, b, c] = rows.body[f, b, c]
-            for f in range(energy_out.shape[0]):
-                energy_out[f] = rows.contact_energy[f]
-
-        self.place_surfaces, self.copy_rows = place_surfaces, copy_rows
+        self.place_surfaces = place_surfaces
+        # The parallel substep in parts the host launches, passing over the rebuild (split_substep.py).
+        self.split = split_substep.make(place_and_build, evaluate) if pairs and not rk4 else None
         self.run_frames, self.substep, self.finish_frame = run_frames, substep, finish_frame
         self.init_bodies, self.apply_impulse, self.sum_inertia = init_bodies, apply_impulse, sum_inertia

@@ -20,7 +20,7 @@ not as expected it falls back to the plain call, which gives the same results.
 """
 from __future__ import annotations
 
-from .arrays import _cpu_pointer, byte_size
+from .arrays import IntCell, _cpu_pointer, byte_size
 from .threads import pin_workers
 
 
@@ -50,12 +50,39 @@ class PreparedLaunch:
 
 def schedule_launches(schedule: str, kernels, model, state, world, scratch, rows) -> dict:
     """The launches a run repeats on ``schedule``: "serial", a chunk of frames in one launch
-    (``run_frames``); "parallel", a substep and a frame's end (``substep``, ``finish_frame``)."""
+    (``run_frames``); "parallel", a substep (``substep``, or on a CPU its parts:
+    split_substep.py) and a frame's end (``finish_frame``)."""
     if schedule == "serial":
         return dict(run_frames=PreparedLaunch(kernels.run_frames, model, state, world, scratch, rows, 1, 1))
     pin_workers()  # one CPU worker to a core (threads.py), or a parallel loop often runs on one
-    return dict(substep=PreparedLaunch(kernels.substep, model, state, world, scratch),
-                finish_frame=PreparedLaunch(kernels.finish_frame, model, state, world, scratch, rows, 0))
+    rebuild = IntCell(scratch["nbr_flags"], 0)  # neighbours.rebuild_gate
+    if kernels.split is not None and rebuild.on_cpu:  # the substep in parts: split_substep.py
+        substep = SplitLaunch(kernels.split, rebuild, model, state, world, scratch)
+    else:
+        substep = PreparedLaunch(kernels.substep, model, state, world, scratch)
+    return dict(substep=substep, finish_frame=PreparedLaunch(kernels.finish_frame, model, state, world, scratch, rows, 0))
+
+
+class SplitLaunch:
+    """A parallel substep as split_substep.py's parts: the motion test, then the placement and
+    rebuild or the placement alone, as the rebuild flag (``rebuild``, an IntCell) says, then the
+    forces and the update."""
+
+    def __init__(self, split, rebuild, model, state, world, scratch):
+        self._rebuild = rebuild
+        self._motion = PreparedLaunch(split.motion, model, state, scratch)
+        self._build = PreparedLaunch(split.build, model, state, scratch)
+        self._place = PreparedLaunch(split.place, model, state, scratch)
+        self._forces = PreparedLaunch(split.forces, model, state, world, scratch)
+
+    def __call__(self) -> None:
+        self._motion()
+        (self._build if self._rebuild.value else self._place)()
+        self._forces()
+
+    @property
+    def prepared(self) -> bool:
+        return all(p.prepared for p in (self._motion, self._build, self._place, self._forces))
 
 
 def run_chunk(launches: dict, schedule: str, frames: int, substeps: int) -> None:

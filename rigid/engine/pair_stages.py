@@ -52,10 +52,16 @@ def place_for_pairs(model: ti.template(), state: ti.template(), scratch: ti.temp
                 for t in range(first, end):
                     stages.place_body_particle(model, state, scratch.active[t], R, x, v, w)
     else:
-        for t in range(neighbours.num_active(scratch) * (1 - gate)):
-            i = scratch.active[t]
-            if not sleep.asleep(state, model.particle_body[i]):
-                stages.place_particle(model, state, i)
+        place_active(model, state, scratch, 1 - gate)
+
+
+@ti.func
+def place_active(model: ti.template(), state: ti.template(), scratch: ti.template(), gate=1):
+    """The active particles of the bodies awake placed, in a top-level loop (``gate`` 0: none)."""
+    for t in range(neighbours.num_active(scratch) * gate):
+        i = scratch.active[t]
+        if not sleep.asleep(state, model.particle_body[i]):
+            stages.place_particle(model, state, i)
 
 
 @ti.func

@@ -8,6 +8,8 @@ keeps them. A body's row is x (3), q (4), v (3), ω (3), P (3), L (3), in that o
 (the springs' ½ k δ², summed over the particle slots in order). Energies from these numbers
 are computed on the host (rigid.engine.simulator).
 """
+import functools
+
 import numpy as np
 import taichi as ti
 
@@ -33,14 +35,29 @@ class FrameRows:
         self.contact_energy = zeros(self.capacity)
         self.args = RowArgs()(body=self.body, contact_energy=self.contact_energy)
 
-    def read(self, frames: int, kernels) -> tuple[np.ndarray, np.ndarray]:
+    def read(self, frames: int) -> tuple[np.ndarray, np.ndarray]:
         """Rows 0..frames-1 as float64: (frames, B, ROW_WIDTH) and the contact energy (frames,).
-        Only those rows are copied (``kernels.copy_rows``; ``to_numpy`` would copy the capacity)."""
+        Only those rows are copied (``copy_rows``; ``to_numpy`` would copy the capacity)."""
         host = host_float()
         body = np.empty((frames, self.num_bodies, ROW_WIDTH), host)
         energy = np.empty(frames, host)
-        kernels.copy_rows(self.args, body, energy)
+        _copy_rows()(self.args, body, energy)
         return body.astype(np.float64), energy.astype(np.float64)
+
+
+@functools.cache
+def _copy_rows():
+    """The kernel that copies the first rows out (made after ti.init, once per process)."""
+    Rw = RowArgs()
+
+    @ti.kernel
+    def copy_rows(rows: Rw, out: ti.types.ndarray(), energy_out: ti.types.ndarray()):
+        for f, b, c in ti.ndrange(out.shape[0], out.shape[1], out.shape[2]):
+            out[f, b, c] = rows.body[f, b, c]
+        for f in range(energy_out.shape[0]):
+            energy_out[f] = rows.contact_energy[f]
+
+    return copy_rows
 
 
 @ti.func

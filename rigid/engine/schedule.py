@@ -26,8 +26,11 @@ in contact at 1 s, µs a substep serial / parallel, one process each, medians of
 piles (0.42 kg spheres) 5,250 particles 131 / 642, 16,800 624 / 971, 29,400 1,224 / 1,374,
 42,000 1,787 / 1,718; the handout's 1 kg particles (`--count N --scale 0.07`, spheres that
 sink into one another, more pairs a particle) 16,800 1,223 / 1,902, 29,400 3,758 / 3,227,
-42,000 6,653 / 5,426. A parallel substep has a fixed ~0.5 ms of wake-ups (about 20 loops), so
-the break-even is ~30k-42k particles: 2¹⁵. Bodies against the walls alone: ~1-3 ns a particle, break-even 2²⁰ (the earlier
+42,000 6,653 / 5,426. A parallel substep pays a round trip through the thread pool for every
+top-level loop, an empty one too (~30 µs): ~0.5 ms for its ~25 loops, ~0.3 ms since a substep
+that does not rebuild the lists skips the rebuild's (split_substep.py; the peers' 125 pile 642 →
+427 µs, 16,800 971 → 893, 29,400 1,374 → 1,254, serial 1,212; the 1 kg 29,400 3,281 against
+3,651). So the break-even is ~30k particles: 2¹⁵. Bodies against the walls alone: ~1-3 ns a particle, break-even 2²⁰ (the earlier
 paths' ``scripts/bench.py`` crossover, not re-measured). Both are assumed to fall as 1/threads
 with more threads. A GPU always runs parallel (one GPU thread would run the whole scene).
 """

@@ -293,6 +293,6 @@ class Simulator:
 
     def _block(self, times: list) -> dict:
         """The rows of the last launch, with the energies (rows.with_energies)."""
-        body, contact = self.rows.read(len(times), self.kernels)
+        body, contact = self.rows.read(len(times))
         return with_energies(split_rows(body), contact, times, self.params.gravity,
                              np.where(self.model.static_np, 0.0, self.model.body_mass_np))
