@@ -64,12 +64,12 @@ def pin_workers() -> list[int]:
     _probe(workers_wanted)  # compiled (or loaded) before anything is timed
     candidates = _threads() - {threading.get_native_id()}
     found: set[int] = set()
-    for _ in range(20):  # a worker may sit out a launch (the very problem): probe until all are seen
-        start = {t: _cpu_ns(t) for t in candidates}
+    for attempt in range(12):  # a worker may sit out a launch (the very problem): probe until all are seen,
+        start = {t: _cpu_ns(t) for t in candidates}  # longer each time (a loaded machine)
         time.sleep(0.002)
         busy = {t for t in candidates if _cpu_ns(t) - start[t] > 50_000}  # running without Taichi
         start = {t: _cpu_ns(t) for t in candidates}
-        _probe(workers_wanted)
+        _probe(workers_wanted, 1 << min(attempt, 6))
         found |= {t for t in candidates if _cpu_ns(t) - start[t] > 100_000} - busy
         if len(found) >= workers_wanted:
             break
@@ -90,20 +90,20 @@ def pin_workers() -> list[int]:
 _PROBE: dict = {}
 
 
-def _probe(workers: int) -> None:
-    """A parallel loop of ``2 × workers`` blocks of ~0.3 ms each (Taichi's CPU blocks are 512
-    iterations at least, schedule.py), so that every worker that wakes takes some."""
+def _probe(workers: int, length: int = 1) -> None:
+    """A parallel loop of ``2 × workers`` blocks of ~0.3 ms × ``length`` each (Taichi's CPU blocks
+    are 512 iterations at least, schedule.py), so that every worker that wakes takes some."""
     import taichi as ti
 
     if "kernel" not in _PROBE:
         @ti.kernel
-        def probe(out: ti.types.ndarray(), n: ti.i32):
+        def probe(out: ti.types.ndarray(), n: ti.i32, steps: ti.i32):
             for i in range(n):
                 s = 1.0 + i
-                for _ in range(100):
+                for _ in range(steps):
                     s = ti.sqrt(s + 1.0)
                 out[i % out.shape[0]] = s
 
         _PROBE["kernel"], _PROBE["out"] = probe, ti.ndarray(ti.f32, 64)
-    _PROBE["kernel"](_PROBE["out"], 1024 * workers)
+    _PROBE["kernel"](_PROBE["out"], 1024 * workers, 100 * length)
     ti.sync()
