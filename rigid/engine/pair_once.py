@@ -113,14 +113,14 @@ def _visited(state: ti.template(), scratch: ti.template(), b, sleeping: ti.templ
 
 
 @ti.func
-def _wanted(model: ti.template(), state: ti.template(), a_rests, j, sleeping: ti.template()):
+def wanted(model: ti.template(), state: ti.template(), a_rests, j, sleeping: ti.template()):
     """Whether a pair with slot j is evaluated when the other side's body rests (``a_rests``,
     sleep.resting, read once a particle): not two resting sleepers (j's body read only then)."""
-    wanted = True
+    keep = True
     if ti.static(sleeping):
         if a_rests:
-            wanted = not sleep.resting(state, model.particle_body[j])
-    return wanted
+            keep = not sleep.resting(state, model.particle_body[j])
+    return keep
 
 
 @ti.func
@@ -194,7 +194,7 @@ def sweep_particle(model: ti.template(), state: ti.template(), scratch: ti.templ
             j = scratch.nbr_list[base + n - 1 - t]
             if j < i:  # the rest are below i: pairs evaluated in their turns
                 break
-            if _wanted(model, state, a_rests, j, sleeping):
+            if wanted(model, state, a_rests, j, sleeping):
                 fp, c, _e = pair_between(model, state, i, p, r_a, x_a, v_a, w_a, k, kd, mu, j, reach_max)
                 if touching(fp):
                     f += fp
@@ -209,7 +209,7 @@ def sweep_particle(model: ti.template(), state: ti.template(), scratch: ti.templ
             lo, hi = grid.around_range(scratch, g, r)
             for slot in range(lo, hi):
                 j = scratch.sorted_particle[slot]
-                if scratch.sorted_body[slot] != a and _wanted(model, state, a_rests, j, sleeping):
+                if scratch.sorted_body[slot] != a and wanted(model, state, a_rests, j, sleeping):
                     fp, c, _e = pair_between(model, state, i, p, r_a, x_a, v_a, w_a, k, kd, mu, j, reach_max)
                     if touching(fp):
                         f += fp

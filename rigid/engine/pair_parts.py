@@ -40,6 +40,7 @@ from .pair_once import give, sweep_particle, touching
 from .pair_stages import pair_between
 
 SPREAD = 512  # iterations per part in the parts loop: one block of Taichi's CPU thread pool each
+MANY_ASLEEP = 4  # a body in this many asleep or more: the waves, which pass over resting sleepers at once
 PARTS_PER_THREAD = 1  # one part a thread: each more part adds its lower edge's pairs twice (2 parts: +16 % work, 4: +53 %)
 
 
@@ -51,8 +52,6 @@ def parts_here() -> int:
         return 0
     return max(1, cfg.cpu_max_num_threads) * PARTS_PER_THREAD
 
-
-MANY_ASLEEP = 4  # a body in this many asleep or more: the waves, which pass over resting sleepers at once
 
 
 @ti.func
@@ -134,10 +133,9 @@ def collect_from_below(model: ti.template(), state: ti.template(), scratch: ti.t
                     j = scratch.nbr_list[base + t]
                     if j >= lo:  # sorted: the rest are the part's own or above
                         break
+                    if not pair_once.wanted(model, state, i_rests, j, sleeping):  # two resting sleepers
+                        continue
                     b = model.particle_body[j]
-                    if ti.static(sleeping):
-                        if i_rests and sleep.resting(state, b):
-                            continue  # two resting sleepers: skipped (pair_once._wanted)
                     r_b = model.particle_radius[b]
                     fj, c, _e = pair_between(model, state, j, state.particle_x[j], r_b, state.x[b], state.v[b],
                                              state.omega[b], k, kd, mu, i, r_b + r_max)

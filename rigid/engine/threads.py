@@ -42,7 +42,7 @@ def _cpu_ns(tid: int) -> int:
         try:
             with open(f"/proc/self/task/{tid}/stat") as f:
                 fields = f.read().rsplit(")", 1)[1].split()
-            return (int(fields[11]) + int(fields[12])) * 10_000_000
+            return (int(fields[11]) + int(fields[12])) * 1_000_000_000 // os.sysconf("SC_CLK_TCK")
         except (OSError, ValueError, IndexError):
             return 0
 
