@@ -148,8 +148,7 @@ class EngineKernels:
                     F, tau = stages.body_wrench(model, scratch, b)
                     update(u, model, state, b, dt, F, tau)
                     if sleep.end_update(state, world, scratch, b):  # at rest from now on
-                        zero = ti.Vector.zero(float, 3)
-                        schemes.store(u, model, state, b, state.x[b], state.q[b], zero, zero, state.R[b])
+                        stages.set_at_rest(u, model, state, b)
             else:
                 F, tau = stages.body_wrench(model, scratch, b)
                 update(u, model, state, b, dt, F, tau)

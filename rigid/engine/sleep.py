@@ -2,7 +2,8 @@
 
 A body falls asleep when the speed bound of its particles, |v| + |ω| ρ_b (ρ_b its largest
 particle offset), has stayed below ``sleep_speed`` for ``sleep_time`` seconds in a row; it is
-then set exactly at rest (P = L = 0, so v = ω = 0: its kinetic energy is zero) and left out:
+then set exactly at rest (P = L = 0, so v = ω = 0: its kinetic energy is zero), its particles
+placed at that pose (stages.set_at_rest), and left out:
 no placement, no pair forces with other sleepers, no block forces, no update. It wakes when
 - a *moving* awake body touches it (moving: its own speed bound at or above sleep_speed; a
   quiet awake body meets a sleeper as a static obstacle, so two quiet bodies in contact do

@@ -18,7 +18,7 @@ way, so runs are bit-reproducible. A lone body is B = 1: no grid, no pairs.
 """
 import taichi as ti
 
-from . import pair_stages
+from . import pair_stages, schemes
 from .contact import plane_force
 from .grab import grab_share
 from .matvec import body_offset, matvec
@@ -58,6 +58,20 @@ def place_body_particle(model: ti.template(), state: ti.template(), i, R, x, v, 
     r = matvec(R, body_offset(model, i))
     state.particle_x[i] = x + r
     state.particle_v[i] = v + w.cross(r)
+
+
+@ti.func
+def set_at_rest(u: ti.template(), model: ti.template(), state: ti.template(), b):
+    """Body b, falling asleep after its update, set exactly at rest (P = L = 0) and its particles
+    placed at its final pose: a sleeper is not placed again until it wakes or the lists are
+    rebuilt, and left where the substep began (a step behind), its particles would sit
+    elsewhere until the next rebuild, so its neighbours' forces, and the run's bits, would depend
+    on when the lists are rebuilt (the skin, the chunks: skin.py)."""
+    zero = ti.Vector.zero(float, 3)
+    schemes.store(u, model, state, b, state.x[b], state.q[b], zero, zero, state.R[b])
+    R, x = state.R[b], state.x[b]
+    for i in range(model.body_start[b], model.body_start[b] + model.body_count[b]):
+        place_body_particle(model, state, i, R, x, zero, zero)
 
 
 @ti.func
