@@ -1,12 +1,13 @@
 """The pair stage in parts (rigid.engine.pair_parts) and Taichi's workers pinned (threads.py).
 
-- Cut into 1, 2 or 3 parts by slot and run part after part, the sweep gives every particle the
-  one-thread sweep's (pair_once.sweep) force and couple on a pile in contact: to round-off
-  (fast math may contract the two places a pair is computed differently; with it off they
-  agree bit for bit, the module docstring says where that was checked). A pair lost at a
-  part's edge would take a whole contact force away, one counted twice would add one: the
-  largest differences are held to 1e-5 of the largest force. The test checks that pairs do
-  cross the parts' edges, so the collecting of the terms from below is what it exercises.
+- Its bodies cut into 1, 2 or 3 parts in space (part_cut.py) and run part after part, the sweep
+  gives every particle the one-thread sweep's (pair_once.sweep) force and couple on a pile in
+  contact: to round-off (the terms come in another order, and fast math may contract the two
+  places a pair is computed differently). A pair lost at the cut would take a whole contact
+  force away, one counted twice would add one: the largest differences are held to 1e-5 of the
+  largest force. The test checks that pairs do cross the cut, so the collecting of the terms
+  from other parts is what it exercises, and that the cut gives the parts equal body counts
+  along the widest axis (against numpy's ordering of the centres).
 - The forces of every pair cancel: each part's sum is antisymmetric too.
 - The parallel schedule's runs stay bit-reproducible with the parts, run after run.
 - The workers found by the probe are pinned to different CPUs (where there are two).
@@ -25,7 +26,7 @@ _KERNELS: dict = {}
 def _kernels():
     import taichi as ti
 
-    from rigid.engine import pair_once, pair_parts
+    from rigid.engine import pair_once, pair_parts, part_cut
     from rigid.engine.arrays import ModelArgs, ScratchArgs, StateArgs, WorldArgs
 
     if not _KERNELS:
@@ -40,8 +41,11 @@ def _kernels():
         @ti.kernel
         def parts(model: M, state: S, world: W, scratch: C, count: ti.i32):
             ti.loop_config(serialize=True)
+            for _ in range(1):
+                part_cut.cut_bodies(state, scratch, count)
+            ti.loop_config(serialize=True)
             for part in range(count):
-                pair_parts.sweep_part(model, state, world, scratch, part, count, False)
+                pair_parts.sweep_part(model, state, world, scratch, part, False)
 
         _KERNELS.update(sweep=sweep, parts=parts)
     return _KERNELS
@@ -74,10 +78,16 @@ def test_parts_give_the_sweeps_forces(sim_cache):
         assert np.abs(f - f0).max() <= 1e-5 * scale, (parts, np.abs(f - f0).max())
         assert np.abs(c - c0).max() <= 1e-5 * np.abs(c0).max(), parts
         assert np.abs(f.sum(0)).max() <= 1e-4 * scale  # every pair's two forces cancel
-        edges = [N * p // parts for p in range(1, parts)]
-        crossing = sum(int(np.sum((lists[lo:, :][counts[lo:] > 0] < lo) & (lists[lo:, :][counts[lo:] > 0] >= 0)))
-                       for lo in edges)
-        assert parts == 1 or crossing > 0  # pairs across an edge: collect_from_below is exercised
+        B = sim.num_bodies
+        part = download(sim._scratch_arrays["nbr_flags"])[4 + 2 * B:4 + 3 * B]
+        x = sim.snapshot()["x"]
+        axis = int(np.argmax(x.max(0) - x.min(0)))
+        order = np.lexsort((np.arange(B), x[:, axis]))  # by coordinate, then index
+        assert np.array_equal(part[order], np.arange(B) * parts // B), parts  # equal counts, in order
+        of = part[sim.particle_bodies()]
+        listed = np.arange(lists.shape[1])[None, :] < np.minimum(counts, lists.shape[1])[:, None]
+        crossing = int(np.sum(listed & (of[np.clip(lists, 0, N - 1)] != of[:, None])))
+        assert parts == 1 or crossing > 0  # pairs across the cut: collect_from_other_parts is exercised
 
 
 def test_parallel_runs_repeat_bit_for_bit(sim_cache):

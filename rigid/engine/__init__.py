@@ -7,7 +7,8 @@
   scratch.py    the arrays a substep rewrites (forces, grid, lists, RK4), sized for a scene
   stages.py     the stages of a substep; pair_stages.py: those only bodies in contact need;
                 pair_once.py: on one thread, each pair's force computed once for both sides;
-                pair_parts.py: the same sweep cut into parts by slot for a CPU's threads
+                pair_parts.py: the same sweep in parts for a CPU's threads, the bodies cut into
+                them by where they are (part_cut.py)
   contact.py    the one contact law; grid.py, scan.py, neighbours.py: the grid and neighbour lists;
                 motion.py: when the lists must be rebuilt (each body's motion, the pairs near enough to touch);
                 list_growth.py: longer lists where one overflowed (the chunk run again); skin.py: the

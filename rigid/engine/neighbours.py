@@ -21,11 +21,12 @@ The host then doubles K and runs the chunk again (list_growth.py).
 
 Scratch arrays (ScratchArgs): ``nbr_count`` [N] i32, ``nbr_list`` [N·K] i32 (particle slots),
 ``build_x`` [N] vec3 (world positions at the last build), ``active`` [N] i32 (the slots with a
-candidate, first nbr_flags[2] of them), ``nbr_flags`` [6 + 2B] i32 (1: rebuild at the next
+candidate, first nbr_flags[2] of them), ``nbr_flags`` [6 + 3B] i32 (1: rebuild at the next
 placement, MAYBE while note_motion leaves it to close_pairs_moved; builds so far; active particles; then per body b, [3 + b] = 1 when b sleeps and a
 body that does not rest has it in its lists, and [3 + B + b] .. [3 + B + b + 1] its run of the
-active list, on one thread: pair_once.py; [4 + 2B] = 1 when a body is asleep (the parallel
-schedule on a CPU, each substep: pair_parts.py); [5 + 2B] = 1 once a list overflowed (list_growth.py);
+active list, on one thread: pair_once.py; [4 + 2B + b] its part of the pair stage (the parallel
+schedule on a CPU, each substep: part_cut.py); [4 + 3B] = 1 when a body is asleep (each
+substep: pair_parts.py); [5 + 3B] = 1 once a list overflowed (list_growth.py);
 one array, as the x64 backend takes at most 64 argument elements), ``grid_params`` [1], [2] = the skin, the relative motion allowed before a
 rebuild (the skin less 2 % for round-off); per body [B]: ``build_pose`` = its x (3) and R
 (9, row by row) at the last build, ρ_b, its largest |r0|, then (motion.note_motion, each substep) e_b,

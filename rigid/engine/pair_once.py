@@ -31,7 +31,7 @@ after, wherever the sleepers are exactly at rest.
 """
 import taichi as ti
 
-from . import grid, neighbours, sleep, stages
+from . import grid, neighbours, part_cut, sleep, stages
 from .pair_stages import pair_between
 
 
@@ -130,6 +130,13 @@ def touching(f):
 
 
 @ti.func
+def gives_to(model: ti.template(), state: ti.template(), scratch: ti.template(), j, part):
+    """Whether a sweep's turn gives a pair's −f to slot j: always on one thread (``part`` −1), else
+    only within the turn's part (pair_parts.py: another part collects it)."""
+    return part < 0 or part_cut.part_of(state, scratch, model.particle_body[j]) == part
+
+
+@ti.func
 def give(state: ti.template(), scratch: ti.template(), j, fi, c):
     """Particle j's side of a pair whose force on the other side is fi, at the contact point c."""
     fj = -fi
@@ -161,7 +168,7 @@ def sweep(model: ti.template(), state: ti.template(), world: ti.template(), scra
                 first, end = neighbours.body_active_range(state, scratch, b)
                 for t in range(first, end):
                     sweep_particle(model, state, scratch, scratch.active[t], b, a_rests, body, k, kd, mu, stride,
-                                   sleeping, state.particle_x.shape[0])
+                                   sleeping, -1)
     else:
         for t in range(neighbours.num_active(scratch)):
             i = scratch.active[t]
@@ -171,16 +178,15 @@ def sweep(model: ti.template(), state: ti.template(), world: ti.template(), scra
             i = scratch.active[t]
             a = model.particle_body[i]
             body = (model.particle_radius[a], state.x[a], state.v[a], state.omega[a])
-            sweep_particle(model, state, scratch, i, a, False, body, k, kd, mu, stride, sleeping,
-                           state.particle_x.shape[0])
+            sweep_particle(model, state, scratch, i, a, False, body, k, kd, mu, stride, sleeping, -1)
 
 
 @ti.func
 def sweep_particle(model: ti.template(), state: ti.template(), scratch: ti.template(), i, a, a_rests, body: ti.template(),
-                   k, kd, mu, stride, sleeping: ti.template(), give_end):
+                   k, kd, mu, stride, sleeping: ti.template(), part):
     """The sweep's turn of active particle i (of body a, resting or not; ``body``: its (radius, x,
-    v, ω)): its pairs with higher slots evaluated and given (to slots below ``give_end`` only:
-    pair_parts.py), added to what the lower slots gave it."""
+    v, ω)): its pairs with higher slots evaluated and given (``part`` >= 0: only to the particles
+    of that part, pair_parts.py), added to what the lower slots gave it."""
     zero = ti.Vector.zero(float, 3)
     p = state.particle_x[i]
     r_a, x_a, v_a, w_a = body
@@ -199,7 +205,7 @@ def sweep_particle(model: ti.template(), state: ti.template(), scratch: ti.templ
                 if touching(fp):
                     f += fp
                     couple += (c - p).cross(fp)
-                    if j < give_end and scratch.nbr_count[j] <= stride:  # else j's walk sums it itself
+                    if scratch.nbr_count[j] <= stride and gives_to(model, state, scratch, j, part):  # else j sums it
                         give(state, scratch, j, fp, c)
     else:  # the grid walk of pair_stages.pair_forces: every pair of i, summed here
         f = zero
@@ -214,7 +220,7 @@ def sweep_particle(model: ti.template(), state: ti.template(), scratch: ti.templ
                     if touching(fp):
                         f += fp
                         couple += (c - p).cross(fp)
-                        if j > i and j < give_end and scratch.nbr_count[j] <= stride:
+                        if j > i and scratch.nbr_count[j] <= stride and gives_to(model, state, scratch, j, part):
                             give(state, scratch, j, fp, c)
     scratch.particle_f[i] = f
     scratch.particle_couple[i] = couple

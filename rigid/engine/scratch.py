@@ -29,7 +29,7 @@ def make_scratch(model, config, pairs: bool, materials: bool):
                   grid_dims=device_array(np.array([shape.dim, shape.num_cells, shape.num_chunks]), dtype=ti.i32),
                   grid_params=device_array(grid_params(diameter, neighbours.SKIN_FRACTION)),
                   nbr_count=zeros(paired, "i"), nbr_list=zeros(lists, "i"), build_x=zeros(paired, "v3"),
-                  nbr_flags=zeros(6 + 2 * B if pairs else 3, "i"), active=zeros(paired, "i"), build_pose=device_array(build_pose(model), 15),
+                  nbr_flags=zeros(6 + 3 * B if pairs else 3, "i"), active=zeros(paired, "i"), build_pose=device_array(build_pose(model), 15),
                   rk=zeros(2 * B, "v13"), contacts=zeros(N + 2 * K + 2 * B if materials else 1, "i"))
     return ScratchArgs()(**{name: arrays[name] for name in ScratchArgs.NAMES}), arrays, shape
 
