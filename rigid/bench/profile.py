@@ -43,7 +43,7 @@ def _kernels(units):
             for i in range(state.particle_x.shape[0]):
                 neighbours.build_list(model, state, scratch, i)
             for i in range(state.particle_x.shape[0]):
-                neighbours.finish_list(state, scratch, i)
+                neighbours.finish_list(state, scratch, i, False)
             neighbours.index_active_by_body(model, state, scratch)
 
     @ti.kernel

@@ -88,7 +88,8 @@ class EngineKernels:
             for i in range(state.particle_x.shape[0] * neighbours.rebuild_gate(scratch)):
                 neighbours.build_list(model, state, scratch, i)
             for i in range(state.particle_x.shape[0] * neighbours.rebuild_gate(scratch)):
-                neighbours.finish_list(state, scratch, i)
+                neighbours.finish_list(state, scratch, i, parallel)
+            neighbours.list_active(state, scratch, neighbours.rebuild_gate(scratch), parallel)
             for b in range(state.x.shape[0] * neighbours.rebuild_gate(scratch)):
                 motion.keep_build_pose(scratch, state, b)
             if ti.static(by_body):
