@@ -42,13 +42,32 @@ def _kernels():
         def parts(model: M, state: S, world: W, scratch: C, count: ti.i32):
             ti.loop_config(serialize=True)
             for _ in range(1):
-                part_cut.cut_bodies(state, scratch, count)
+                part_cut.cut_bodies(model, state, scratch, count)
             ti.loop_config(serialize=True)
             for part in range(count):
                 pair_parts.sweep_part(model, state, world, scratch, part, False)
 
         _KERNELS.update(sweep=sweep, parts=parts)
     return _KERNELS
+
+
+def _expected_parts(x: np.ndarray, weights: np.ndarray, parts: int) -> np.ndarray:
+    """part_cut.cut_bodies' groups by numpy: the bodies in (coordinate on the widest axis, index)
+    order; group k ends with the first body at which the running weight reaches (k + 1) / parts
+    of the total, and holds at least that body."""
+    B = len(x)
+    axis = int(np.argmax(x.max(0) - x.min(0)))
+    order = np.lexsort((np.arange(B), x[:, axis]))
+    running = np.cumsum(weights[order])
+    groups, first = np.full(B, parts - 1), 0
+    for k in range(parts - 1):
+        end = first
+        if first < B:
+            reached = np.flatnonzero(running[first:] >= running[-1] * (k + 1) / parts)
+            end = first + (int(reached[0]) if len(reached) else B - 1 - first) + 1
+        groups[order[first:end]] = k
+        first = end
+    return groups
 
 
 def _forces(sim):
@@ -58,6 +77,7 @@ def _forces(sim):
 
 
 def test_parts_give_the_sweeps_forces(sim_cache):
+    from rigid.engine import part_cut
     from rigid.engine.arrays import download
 
     sim = sim_cache(**PILE)
@@ -73,17 +93,16 @@ def test_parts_give_the_sweeps_forces(sim_cache):
     lists = download(sim._scratch_arrays["nbr_list"]).reshape(len(counts), -1)
     N = sim.num_particles
     for parts in (1, 2, 3):
+        B = sim.num_bodies
+        touches = download(sim._scratch_arrays["build_pose"])[:, 15]  # the last parts' counts (none at first)
+        weights = sim.model.body_count_np + part_cut.TOUCH_WEIGHT * touches
         k["parts"](*args, parts)
         f, c = _forces(sim)
         assert np.abs(f - f0).max() <= 1e-5 * scale, (parts, np.abs(f - f0).max())
         assert np.abs(c - c0).max() <= 1e-5 * np.abs(c0).max(), parts
         assert np.abs(f.sum(0)).max() <= 1e-4 * scale  # every pair's two forces cancel
-        B = sim.num_bodies
         part = download(sim._scratch_arrays["nbr_flags"])[4 + 2 * B:4 + 3 * B]
-        x = sim.snapshot()["x"]
-        axis = int(np.argmax(x.max(0) - x.min(0)))
-        order = np.lexsort((np.arange(B), x[:, axis]))  # by coordinate, then index
-        assert np.array_equal(part[order], np.arange(B) * parts // B), parts  # equal counts, in order
+        assert np.array_equal(part, _expected_parts(sim.snapshot()["x"].astype(np.float32), weights, parts)), parts
         of = part[sim.particle_bodies()]
         listed = np.arange(lists.shape[1])[None, :] < np.minimum(counts, lists.shape[1])[:, None]
         crossing = int(np.sum(listed & (of[np.clip(lists, 0, N - 1)] != of[:, None])))
@@ -154,10 +173,12 @@ def test_parts_with_a_few_sleepers_wake_them_and_keep_the_bits(sim_cache):
 
 
 @pytest.mark.parametrize("bodies", [1, 2, 3, 7, 64, 257])
-def test_the_cut_gives_equal_counts_in_order_along_the_widest_axis(ti_cpu, bodies):
-    """part_cut.cut_bodies against numpy: centres drawn on a coarse grid (many ties, broken by the
-    body's index), the widest axis found, and each body's part its rank × parts // B, for 1 to 7
-    parts (Hoare's selection must leave each group's keys between the cuts, whatever the order)."""
+def test_the_cut_follows_the_weights_in_order_along_the_widest_axis(ti_cpu, bodies):
+    """part_cut.cut_bodies against numpy (_expected_parts): centres drawn on a coarse grid (many
+    ties, broken by the body's index), the widest axis found, and the groups of the running
+    weight (particles, touching particles), for 1 to 7 parts, with equal weights (then equal
+    counts) and with unequal ones (Hoare's selection must leave each group's keys between the
+    cuts, whatever the order it found them in)."""
     import taichi as ti
 
     from rigid.engine import part_cut
@@ -165,24 +186,33 @@ def test_the_cut_gives_equal_counts_in_order_along_the_widest_axis(ti_cpu, bodie
     class Holder:  # the two argument packs cut_bodies reads, as fields
         pass
 
-    state, scratch = Holder(), Holder()
+    model, state, scratch = Holder(), Holder(), Holder()
+    model.body_count = ti.field(ti.i32, shape=bodies)
     state.x = ti.Vector.field(3, float, shape=bodies)
-    scratch.build_pose = ti.Vector.field(15, float, shape=bodies)
+    scratch.build_pose = ti.Vector.field(16, float, shape=bodies)
     scratch.nbr_flags = ti.field(ti.i32, shape=6 + 3 * bodies)
 
     @ti.kernel
     def cut(parts: ti.i32):
         ti.loop_config(serialize=True)
         for _ in range(1):
-            part_cut.cut_bodies(state, scratch, parts)
+            part_cut.cut_bodies(model, state, scratch, parts)
 
     rng = np.random.default_rng(bodies)
-    for trial in range(3):
+    for trial in range(4):
         x = np.round(rng.normal(size=(bodies, 3)) * np.array([1.0, 3.0, 2.0])[np.roll(range(3), trial)], 1)
-        state.x.from_numpy(x.astype(np.float32))
-        axis = int(np.argmax(x.max(0) - x.min(0)))
-        order = np.lexsort((np.arange(bodies), x[:, axis].astype(np.float32)))
+        x = x.astype(np.float32)
+        counts = np.full(bodies, 42) if trial < 2 else rng.integers(1, 300, bodies)
+        touches = np.zeros(bodies) if trial % 2 == 0 else rng.integers(0, 40, bodies).astype(float)
+        state.x.from_numpy(x)
+        model.body_count.from_numpy(counts.astype(np.int32))
+        pose = np.zeros((bodies, 16), np.float32)
+        pose[:, 15] = touches
+        weights = counts + part_cut.TOUCH_WEIGHT * touches
         for parts in range(1, 8):
+            scratch.build_pose.from_numpy(pose)
             cut(parts)
             part = scratch.nbr_flags.to_numpy()[4 + 2 * bodies:4 + 3 * bodies]
-            assert np.array_equal(part[order], np.arange(bodies) * parts // bodies), (trial, parts)
+            assert np.array_equal(part, _expected_parts(x, weights, parts)), (trial, parts)
+            if trial == 0:  # equal weights: equal counts (to one)
+                assert np.ptp(np.bincount(part, minlength=parts)) <= 1 or bodies < parts

@@ -31,7 +31,8 @@ one array, as the x64 backend takes at most 64 argument elements), ``grid_params
 rebuild (the skin less 2 % for round-off); per body [B]: ``build_pose`` = its x (3) and R
 (9, row by row) at the last build, ρ_b, its largest |r0|, then (motion.note_motion, each substep) e_b,
 the bound on its particles' motion since the build, and (when it asks close_pairs_moved)
-ρ'_b >= its particles' distance from its centre now (15 floats).
+ρ'_b >= its particles' distance from its centre now, then its touching particles (part_cut.py;
+16 floats).
 """
 import taichi as ti
 

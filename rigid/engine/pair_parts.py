@@ -1,5 +1,5 @@
 """Stage 3a on a CPU's threads: the one-thread sweep (pair_once.py) run in parts side by side,
-the bodies cut into the parts by where they are (part_cut.py).
+the bodies cut into the parts by where they are, weighted by their work (part_cut.py).
 
 The parallel schedule's visit (pair_stages.visit_all) lets every particle sum its whole list,
 so each touching pair is evaluated twice, once from each side. Here each part runs the sweep
@@ -55,7 +55,8 @@ def parts_here() -> int:
 
 
 @ti.func
-def prepare(state: ti.template(), scratch: ti.template(), parts: ti.template(), sleeping: ti.template()):
+def prepare(model: ti.template(), state: ti.template(), scratch: ti.template(), parts: ti.template(),
+            sleeping: ti.template()):
     """On one thread, before the parts: with ``sleeping``, the mode (0 if no body is asleep now, 1
     if a few are, 2 if one in MANY_ASLEEP or more), kept in nbr_flags (neighbours.py) and read
     back, as a top-level loop hands its result to the next through memory; unless the mode is 2
@@ -75,7 +76,7 @@ def prepare(state: ti.template(), scratch: ti.template(), parts: ti.template(), 
                 mode = 2
         scratch.nbr_flags[slot] = mode
         if mode != 2:
-            part_cut.cut_bodies(state, scratch, parts)
+            part_cut.cut_bodies(model, state, scratch, parts)
     return scratch.nbr_flags[slot]
 
 
@@ -157,6 +158,7 @@ def sweep_part(model: ti.template(), state: ti.template(), world: ti.template(),
             if ti.static(sleeping):
                 a_rests = sleep.resting(state, b)
             body = (model.particle_radius[b], state.x[b], state.v[b], state.omega[b])
+            touches = 0
             for i in range(model.body_start[b], model.body_start[b] + model.body_count[b]):
                 n = scratch.nbr_count[i]
                 if n > 0:
@@ -164,6 +166,9 @@ def sweep_part(model: ti.template(), state: ti.template(), world: ti.template(),
                         collect_from_other_parts(model, state, scratch, i, part, a_rests, k, kd, mu, stride, r_max,
                                                  sleeping)
                     sweep_particle(model, state, scratch, i, b, a_rests, body, k, kd, mu, stride, sleeping, part)
+                    if touching(scratch.particle_f[i]):  # final: no later turn gives to i
+                        touches += 1
+            scratch.build_pose[b][part_cut.TOUCH] = ti.cast(touches, float)  # the next cut's weight
 
 
 @ti.func
@@ -183,7 +188,7 @@ def parallel_pairs(model: ti.template(), state: ti.template(), world: ti.templat
     parts and the sweep run in them; with ``sleeping`` compiled in and a few bodies asleep, after
     the moving bodies marked the sleepers they touch (``wake_if_touched``); with many asleep, the
     waves of pair_stages.visit_all, which pass over a resting sleeper's particles at once."""
-    mode = prepare(state, scratch, parts, sleeping)
+    mode = prepare(model, state, scratch, parts, sleeping)
     if ti.static(sleeping):
         few, many = ti.cast(mode == 1, ti.i32), ti.cast(mode == 2, ti.i32)
         for b in range(state.x.shape[0] * few):

@@ -29,7 +29,7 @@ def make_scratch(model, config, pairs: bool, materials: bool):
                   grid_dims=device_array(np.array([shape.dim, shape.num_cells, shape.num_chunks]), dtype=ti.i32),
                   grid_params=device_array(grid_params(diameter, neighbours.SKIN_FRACTION)),
                   nbr_count=zeros(paired, "i"), nbr_list=zeros(lists, "i"), build_x=zeros(paired, "v3"),
-                  nbr_flags=zeros(6 + 3 * B if pairs else 3, "i"), active=zeros(paired, "i"), build_pose=device_array(build_pose(model), 15),
+                  nbr_flags=zeros(6 + 3 * B if pairs else 3, "i"), active=zeros(paired, "i"), build_pose=device_array(build_pose(model), 16),
                   rk=zeros(2 * B, "v13"), contacts=zeros(N + 2 * K + 2 * B if materials else 1, "i"))
     return ScratchArgs()(**{name: arrays[name] for name in ScratchArgs.NAMES}), arrays, shape
 
@@ -48,10 +48,11 @@ def particle_diameter(model) -> float:
 
 
 def build_pose(model) -> np.ndarray:
-    """(B, 15) the neighbour lists' pose per body (set at each build), with ρ_b, the body's
+    """(B, 16) the neighbour lists' pose per body (set at each build), with ρ_b, the body's
     largest particle offset |r0| (rounded up), in slot 12; slots 13, 14 are note_motion's
-    (motion.py)."""
+    (motion.py), then part_cut's; slot 15 the body's touching particles at the parallel pair
+    stage's last run (part_cut.py)."""
     norms = np.linalg.norm(model.r0_np, axis=1)
-    pose = np.zeros((model.num_bodies, 15))
+    pose = np.zeros((model.num_bodies, 16))
     pose[:, 12] = [norms[s:s + c].max() * (1 + 1e-6) + 1e-9 for s, c in zip(model.body_start_np, model.body_count_np)]
     return pose

@@ -23,7 +23,7 @@ from .arrays import clear, download, host_float, upload
 from .grab import default_spring, holding, released
 from .kernels import engine_kernels
 from .list_growth import ListGrowth
-from .scratch import make_scratch, particle_diameter
+from .scratch import build_pose, make_scratch, particle_diameter
 from .skin import AdaptiveSkin
 from .launch import run_chunk, schedule_launches
 from .model import BodyParts, Model
@@ -117,6 +117,7 @@ class Simulator:
         self.release()
         self._scratch_arrays["nbr_flags"][0] = 1  # the next placement builds the neighbour lists
         clear(self.state.sleep)  # every body awake
+        upload(self._scratch_arrays["build_pose"], build_pose(self.model))  # no touches counted (part_cut.py)
         self._params_version = self.params.version
         self.state.clear_contacts()
         clear(self._scratch_arrays["contacts"])
