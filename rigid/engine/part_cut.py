@@ -14,7 +14,7 @@ body weighs its particles plus TOUCH_WEIGHT for each that touched another body's
 parts last ran (counted by pair_parts.sweep_part into slot 15 of build_pose; kept with the
 state by list growth's copy, cleared by a reset). On 125 volume spheres of 235,000 particles
 equal counts left the parts at 8.6 and 6.7 ms, the weights at 7.8 and 7.8 (the sweep alone:
-15.6 ms on one thread); a substep 56.6-58.7 → 52.7-54.2 ns a particle. The cut and the weights
+14.9-16.5 ms on one thread); a substep 56.6-58.7 → 52.7-54.2 ns a particle. The cut and the weights
 are fixed functions of the state (the touching pairs do not depend on the lists), so the runs
 stay bit-reproducible whatever the lists' skin, rebuilds and chunks. The groups' edges come
 from Hoare's selection (O(B), no sort) on a copy of the keys in slots 13 and 14 of build_pose,
