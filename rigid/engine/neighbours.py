@@ -36,7 +36,7 @@ the bound on its particles' motion since the build, and (when it asks close_pair
 """
 import taichi as ti
 
-from . import grid
+from . import grid, scan
 
 NEIGHBOURS_PER_PARTICLE = 16  # list slots per particle to start with (list_growth.py doubles them where needed)
 SKIN_FRACTION = 0.5  # skin = this × the largest particle diameter
@@ -145,34 +145,32 @@ def list_active(state: ti.template(), scratch: ti.template(), gate, parallel: ti
     (on one thread, finish_list appends to it).
     Every thread appending through one counter cost 20 ms for a million particles (the cache line
     passed between the cores at each append; 0.5 ms without the atomic), so each chunk of slots
-    counts its active particles, one thread sums the counts (in chunk_total, free after the
-    grid's scan) and each chunk writes its slots from its offset."""
+    counts its active particles, one thread sums the counts (scan.sum_chunk_totals, in
+    chunk_total, free after the grid's scan) and each chunk writes its slots from its offset."""
     if ti.static(parallel):
         _list_active(state, scratch, gate)
 
 
 @ti.func
 def _list_active(state: ti.template(), scratch: ti.template(), gate):
-    for k in range(scratch.grid_dims[2] * gate):
+    chunks = scratch.grid_dims[2] * gate
+    for k in range(chunks):
         lo, hi = _active_chunk(state, scratch, k)
         total = 0
         for i in range(lo, hi):
             if scratch.nbr_count[i] > 0:
                 total += 1
         scratch.chunk_total[k + 1] = total
-    ti.loop_config(serialize=True)
-    for _ in range(gate):
-        scratch.chunk_total[0] = 0
-        for k in range(scratch.grid_dims[2]):
-            scratch.chunk_total[k + 1] += scratch.chunk_total[k]
-        scratch.nbr_flags[2] = scratch.chunk_total[scratch.grid_dims[2]]
-    for k in range(scratch.grid_dims[2] * gate):
+    scan.sum_chunk_totals(scratch.chunk_total, chunks)
+    for k in range(chunks):
         lo, hi = _active_chunk(state, scratch, k)
         t = scratch.chunk_total[k]
         for i in range(lo, hi):
             if scratch.nbr_count[i] > 0:
                 scratch.active[t] = i
                 t += 1
+        if k == chunks - 1:
+            scratch.nbr_flags[2] = t
 
 
 @ti.func

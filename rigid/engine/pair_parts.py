@@ -53,7 +53,6 @@ def parts_here() -> int:
     return max(1, cfg.cpu_max_num_threads) * PARTS_PER_THREAD
 
 
-
 @ti.func
 def prepare(model: ti.template(), state: ti.template(), scratch: ti.template(), parts: ti.template(),
             sleeping: ti.template()):

@@ -24,6 +24,8 @@ into nbr_flags (neighbours.py).
 import taichi as ti
 
 KEY, INDEX = 13, 14  # build_pose slots the selection works in: a body's coordinate, its index
+TOUCH = 15  # build_pose slot: the body's touching particles when the parts last ran (sweep_part)
+TOUCH_WEIGHT = 6.0  # a touching particle's work in the sweep against one that only reads its list
 
 
 @ti.func
@@ -33,10 +35,16 @@ def part_of(state: ti.template(), scratch: ti.template(), b):
 
 
 @ti.func
+def _ordered(key_a, index_a, key_b, index_b):
+    """Whether key (key_a, index_a) comes before (key_b, index_b): coordinate, then index."""
+    return key_a < key_b or (key_a == key_b and index_a < index_b)
+
+
+@ti.func
 def _before(scratch: ti.template(), s, t):
-    """Whether the key in selection slot s comes before that in slot t (coordinate, then index)."""
+    """Whether the key in selection slot s comes before that in slot t."""
     a, b = scratch.build_pose[s], scratch.build_pose[t]
-    return a[KEY] < b[KEY] or (a[KEY] == b[KEY] and a[INDEX] < b[INDEX])
+    return _ordered(a[KEY], a[INDEX], b[KEY], b[INDEX])
 
 
 @ti.func
@@ -47,10 +55,6 @@ def _swap(scratch: ti.template(), s, t):
     scratch.build_pose[s][INDEX] = b[INDEX]
     scratch.build_pose[t][KEY] = key
     scratch.build_pose[t][INDEX] = index
-
-
-TOUCH = 15  # build_pose slot: the body's touching particles when the parts last ran (sweep_part)
-TOUCH_WEIGHT = 6.0  # a touching particle's work in the sweep against one that only reads its list
 
 
 @ti.func
@@ -85,11 +89,9 @@ def _select_weight(model: ti.template(), scratch: ti.template(), first, last, be
         pivot_key, pivot_index = scratch.build_pose[mid][KEY], scratch.build_pose[mid][INDEX]
         i, j = lo, hi
         while i <= j:
-            while (scratch.build_pose[i][KEY] < pivot_key
-                   or (scratch.build_pose[i][KEY] == pivot_key and scratch.build_pose[i][INDEX] < pivot_index)):
+            while _ordered(scratch.build_pose[i][KEY], scratch.build_pose[i][INDEX], pivot_key, pivot_index):
                 i += 1
-            while (scratch.build_pose[j][KEY] > pivot_key
-                   or (scratch.build_pose[j][KEY] == pivot_key and scratch.build_pose[j][INDEX] > pivot_index)):
+            while _ordered(pivot_key, pivot_index, scratch.build_pose[j][KEY], scratch.build_pose[j][INDEX]):
                 j -= 1
             if i <= j:
                 _swap(scratch, i, j)
@@ -102,15 +104,12 @@ def _select_weight(model: ti.template(), scratch: ti.template(), first, last, be
             hi = j
         else:
             acc += left
-            if i == j + 2:
+            lo = i
+            if i == j + 2:  # the pivot's key between the sides
                 acc += _weight_at(model, scratch, j + 1)
                 if acc >= target:
                     lo = j + 1
                     hi = j + 1
-                else:
-                    lo = i
-            else:
-                lo = i
     return lo
 
 

@@ -20,11 +20,7 @@ def scan_parallel(counts: ti.template(), starts: ti.template(), chunk_total: ti.
         for c in range(k * CHUNK, ti.min((k + 1) * CHUNK, size)):
             total += counts[c]
         chunk_total[k + 1] = total
-    ti.loop_config(serialize=True)
-    for _ in range(ti.min(num_chunks, 1)):  # (2) one thread: running sum of the chunk totals (none for size 0)
-        chunk_total[0] = 0
-        for k in range(num_chunks):
-            chunk_total[k + 1] += chunk_total[k]
+    sum_chunk_totals(chunk_total, num_chunks)  # (2)
     for k in range(num_chunks):  # (3) per chunk, in parallel
         running = chunk_total[k]
         for c in range(k * CHUNK, ti.min((k + 1) * CHUNK, size)):
@@ -32,6 +28,17 @@ def scan_parallel(counts: ti.template(), starts: ti.template(), chunk_total: ti.
             running += counts[c]
         if k == num_chunks - 1:
             starts[size] = running
+
+
+@ti.func
+def sum_chunk_totals(chunk_total: ti.template(), num_chunks):
+    """Step (2) at a kernel's top level, on one thread: chunk_total[1..num_chunks] (each chunk's
+    total) become the running sums, chunk_total[0] = 0 (none for num_chunks 0)."""
+    ti.loop_config(serialize=True)
+    for _ in range(ti.min(num_chunks, 1)):
+        chunk_total[0] = 0
+        for k in range(num_chunks):
+            chunk_total[k + 1] += chunk_total[k]
 
 
 @ti.func
