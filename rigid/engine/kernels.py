@@ -15,12 +15,12 @@ Two schedules run the same stages (stages.py), chosen by schedule.py:
 
 import taichi as ti
 
-from . import (grid, material_stages, motion, neighbours, pair_once, pair_parts, pair_stages, schemes, sleep,
+from . import (grid, material_stages, neighbours, pair_once, pair_parts, pair_stages, refresh, schemes, sleep,
                split_substep, stages)
 from .arrays import ModelArgs, RowArgs, ScratchArgs, StateArgs, SurfaceArgs, WorldArgs
 from .matvec import body_offset, matvec
-from .state import DT
 from .rows import write_row
+from .state import DT
 
 _CACHE: dict = {}
 _COMPACT = [False]  # compact_block_loops()
@@ -53,11 +53,11 @@ class EngineKernels:
         u = units
         M, S, W, C, Rw, Sf = ModelArgs(), StateArgs(), WorldArgs(), ScratchArgs(), RowArgs(), SurfaceArgs()
         rk4 = scheme == "rk4"
-        # Bodies may sleep (sleep.py) with many bodies, Euler or symplectic, and no materials (whose
+        # Bodies may sleep (sleep.py), and lists be refreshed in part (refresh.py), with no materials (whose
         # contacts keep per-contact memory: static friction's springs, the counts of m_eff).
         sleeping = pairs and not rk4 and not materials
         update = schemes.symplectic_update if scheme == "symplectic" else schemes.euler_update
-        parts = pair_parts.parts_here()  # 0 off a CPU
+        parts, refreshing = pair_parts.parts_here(), not materials  # parts: 0 off a CPU
 
         @ti.func
         def place_all(model: ti.template(), state: ti.template(), scratch: ti.template(), parallel: ti.template(),
@@ -66,7 +66,7 @@ class EngineKernels:
             ``everything`` (0 or 1, may be a run-time value) or a rebuild), and the neighbour lists
             rebuilt (grid and lists) if a particle may have moved half the skin since their last build."""
             if ti.static(pairs):
-                pair_stages.note_motion(model, state, scratch, parallel)
+                pair_stages.note_motion(model, state, scratch, parallel, refreshing)
                 place_and_build(model, state, scratch, parallel, everything)
             else:
                 stages.place_particles(model, state)
@@ -82,7 +82,7 @@ class EngineKernels:
                 grid.finish_parallel(scratch, model, state, neighbours.rebuild_gate(scratch))
             else:
                 grid.finish_serial(scratch, model, state, neighbours.rebuild_gate(scratch))
-            neighbours.start_build(scratch)
+            refresh.start_build(state, scratch)
             for i in range(state.particle_x.shape[0] * neighbours.rebuild_gate(scratch)):
                 neighbours.clear_list(scratch, i)
             for i in range(state.particle_x.shape[0] * neighbours.rebuild_gate(scratch)):
@@ -91,7 +91,7 @@ class EngineKernels:
                 neighbours.finish_list(state, scratch, i, parallel)
             neighbours.list_active(state, scratch, neighbours.rebuild_gate(scratch), parallel)
             for b in range(state.x.shape[0] * neighbours.rebuild_gate(scratch)):
-                motion.keep_build_pose(scratch, state, b)
+                refresh.after_build(state, scratch, b)
             if ti.static(by_body):
                 if neighbours.rebuild_gate(scratch):
                     neighbours.index_active_by_body(model, state, scratch)
@@ -295,6 +295,6 @@ class EngineKernels:
 
         self.place_surfaces = place_surfaces
         # The parallel substep in parts the host launches, passing over the rebuild (split_substep.py).
-        self.split = split_substep.make(place_and_build, evaluate) if pairs and not rk4 else None
+        self.split = split_substep.make(place_and_build, evaluate, refreshing) if pairs and not rk4 else None
         self.run_frames, self.substep, self.finish_frame = run_frames, substep, finish_frame
         self.init_bodies, self.apply_impulse, self.sum_inertia = init_bodies, apply_impulse, sum_inertia

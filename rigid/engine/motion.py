@@ -6,13 +6,15 @@ they stay exact while no pair of particles that may touch now has closed by more
 skin. A particle of body b moved by Δx_b + ΔR_b r0; note_motion bounds that per body (e_b,
 relative to a common shift) and, when the two largest bounds sum past the skin,
 close_pairs_moved asks only the pairs of bodies whose bounding spheres overlap. The flag it
-raises is nbr_flags[0] (neighbours.py: 1 = rebuild at this placement; MAYBE while undecided);
+raises is nbr_flags[0] (neighbours.py: 1 = rebuild at this placement; MAYBE while undecided;
+VIOLATED when a pair moved too far, which refresh.settle turns into a partial or a full build);
 each body's e_b and reach ρ'_b sit in slots 13 and 14 of its build_pose.
 """
 import taichi as ti
 
 ROTATION_DEFECT = 1e-3  # _turn_norm: the orthogonality defect up to which R is taken for a rotation
 MAYBE = 2  # nbr_flags[0] while note_motion's rebuild is undecided (close_pairs_moved decides)
+VIOLATED = 3  # close_pairs_moved found a pair that moved too far (refresh.settle: a refresh or a full build)
 
 
 @ti.func
@@ -104,13 +106,6 @@ def motion_undecided(scratch: ti.template()):
 
 
 @ti.func
-def settle_motion(scratch: ti.template()):
-    """After close_pairs_moved (one thread): no rebuild if no pair asked for one."""
-    if scratch.nbr_flags[0] == MAYBE:
-        scratch.nbr_flags[0] = 0
-
-
-@ti.func
 def close_pairs_moved(model: ti.template(), state: ti.template(), scratch: ti.template(), a):
     """After note_motion: ask for a rebuild if body a and another body b that may now touch it
     have moved by more than the skin in total (e_a + e_b, note_motion). Only such a pair can
@@ -132,7 +127,7 @@ def close_pairs_moved(model: ti.template(), state: ti.template(), scratch: ti.te
                 d = state.x[b] - x_a
                 reach = (reach_a + pose_b[14] + model.particle_radius[b]) * (1.0 + 1e-5)
                 if d.dot(d) < reach * reach:
-                    scratch.nbr_flags[0] = 1
+                    scratch.nbr_flags[0] = VIOLATED
 
 
 @ti.func

@@ -6,15 +6,18 @@ pair evaluated by ``pair_between``), and ``pair_forces``, which the frame's cont
 also sums. On one thread pair_once.py's sweep replaces 3a."""
 import taichi as ti
 
-from . import grid, motion, neighbours, sleep, stages
+from . import grid, motion, neighbours, refresh, sleep, stages
 from .contact import pair_contact
 
 
 @ti.func
-def note_motion(model: ti.template(), state: ti.template(), scratch: ti.template(), parallel: ti.template()):
+def note_motion(model: ti.template(), state: ti.template(), scratch: ti.template(), parallel: ti.template(),
+                refresh_lists: ti.template()):
     """Stage 1a (bodies in contact): whether the neighbour lists must be rebuilt (motion.py):
     each body's motion on one thread (a parallel kernel's top level would split its loops), then
-    the pairs of bodies near enough to touch, in parallel with ``parallel``."""
+    the pairs of bodies near enough to touch, in parallel with ``parallel``; then, if a pair
+    moved too far, the bodies that moved refreshed (with ``refresh_lists``: refresh.py) or a
+    full build asked for."""
     if ti.static(parallel):
         ti.loop_config(serialize=True)
         for _ in range(1):
@@ -23,12 +26,12 @@ def note_motion(model: ti.template(), state: ti.template(), scratch: ti.template
             motion.close_pairs_moved(model, state, scratch, a)
         ti.loop_config(serialize=True)
         for _ in range(1):
-            motion.settle_motion(scratch)
+            refresh.settle(model, state, scratch, parallel, refresh_lists)
     else:
         motion.note_motion(scratch, state)
         for a in range(state.x.shape[0] * motion.motion_undecided(scratch)):
             motion.close_pairs_moved(model, state, scratch, a)
-        motion.settle_motion(scratch)
+        refresh.settle(model, state, scratch, parallel, refresh_lists)
 
 
 @ti.func

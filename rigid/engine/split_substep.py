@@ -27,14 +27,15 @@ class SplitSubstep:
         self.motion, self.build, self.place, self.forces = motion, build, place, forces
 
 
-def make(place_and_build, evaluate) -> SplitSubstep:
+def make(place_and_build, evaluate, refreshing: bool) -> SplitSubstep:
     """The parts from kernels.py's stages (``place_and_build``: placement and the gated rebuild
-    after the motion test; ``evaluate``: the forces and the update), for one set of kernels."""
+    after the motion test; ``evaluate``: the forces and the update; ``refreshing``: partial
+    rebuilds of the lists, refresh.py), for one set of kernels."""
     M, S, W, C = ModelArgs(), StateArgs(), WorldArgs(), ScratchArgs()
 
     @ti.kernel
     def motion(model: M, state: S, scratch: C):
-        pair_stages.note_motion(model, state, scratch, True)
+        pair_stages.note_motion(model, state, scratch, True, refreshing)
 
     @ti.kernel
     def build(model: M, state: S, scratch: C):
