@@ -19,6 +19,7 @@ SIZES = ((27, 0.15), (125, 0.15), (1000, 0.07), (8000, 0.035), (24000, 0.025))
 
 def pile_point(units, count: int, scale: float) -> dict:
     import taichi as ti
+    from rigid.engine.refresh import refreshes_so_far
     from rigid.engine.simulator import Simulator
 
     from .many import CONTACT_FRAME, _step_until, time_steps
@@ -33,14 +34,16 @@ def pile_point(units, count: int, scale: float) -> dict:
     n = sim.num_particles
     falling = statistics.median(time_steps(sim.step_frame, ti.sync, 0, 2, 3, 16))
     _step_until(sim, CONTACT_FRAME)
-    builds = sim.neighbour_builds
+    builds, refreshes = sim.neighbour_builds, refreshes_so_far(sim)
     contact = time_steps(sim.step_frame, ti.sync, 0, 2, 3, 16)
     rate = (sim.neighbour_builds - builds) / (6 * sim.substeps)
+    refresh_rate = (refreshes_so_far(sim) - refreshes) / (6 * sim.substeps)
     c = statistics.median(contact)
     return dict(bodies=count, scale=scale, particles=n, path=sim.schedule, build_s=round(build_s, 2),
                 falling_ns_per_particle_substep=round(falling * 1e9 / n, 1),
                 contact_us_per_substep=round(c * 1e6, 1), contact_ns_per_particle_substep=round(c * 1e9 / n, 1),
-                contact_rebuilds_per_substep=round(rate, 3), asleep=int(sim.asleep().sum()),
+                contact_rebuilds_per_substep=round(rate, 3), contact_refreshes_per_substep=round(refresh_rate, 3),
+                asleep=int(sim.asleep().sum()),
                 neighbours_mean=round(float(sim.neighbour_counts().mean()), 2))
 
 
@@ -61,9 +64,11 @@ def markdown(points: list[dict]) -> list[str]:
              "Falling: frames 2-7; in contact: frames 61-66 (the pile formed at 1 s). Build: the scene, the "
              "Simulator and its first frame (kernels already compiled after the first row).", "",
              "| bodies | particles | path | build s | ns/particle-substep falling | µs/substep in contact "
-             "| ns/particle-substep in contact | rebuilds/substep | asleep |", "|---|---|---|---|---|---|---|---|---|"]
+             "| ns/particle-substep in contact | full rebuilds/substep | partial (refresh.py) | asleep |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
     lines += [f"| {p['bodies']:,} | {p['particles']:,} | {p['path']} | {p['build_s']} | "
               f"{p['falling_ns_per_particle_substep']} | {p['contact_us_per_substep']:,} | "
-              f"{p['contact_ns_per_particle_substep']} | {p['contact_rebuilds_per_substep']} | {p['asleep']:,} |"
+              f"{p['contact_ns_per_particle_substep']} | {p['contact_rebuilds_per_substep']} | "
+              f"{p.get('contact_refreshes_per_substep', '')} | {p['asleep']:,} |"
               for p in points]
     return lines + [""]

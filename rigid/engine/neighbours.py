@@ -7,7 +7,8 @@ from the grid (grid.py, cells of the largest diameter + the skin) and reused unt
 particles may have closed by more than the skin since the build: until then no pair can have
 come from beyond reach + skin to within reach, so every pair in contact is in the
 list (Verlet 1967; the classic rebuild test, here on relative motion bounded per body, and only
-for pairs of bodies near enough to touch: note_motion, close_pairs_moved). Own-body
+for pairs of bodies near enough to touch: note_motion, close_pairs_moved; when only some
+bodies outran the skin, theirs alone are made again: refresh.py). Own-body
 candidates never enter the list. Only the particles with a candidate (the active list) are
 placed and visited by the pair stage between builds; the others' pair force stays zero.
 
@@ -20,19 +21,25 @@ positions (a superset of its list: exact, in the walk's fixed order): no contact
 The host then doubles K and runs the chunk again (list_growth.py).
 
 Scratch arrays (ScratchArgs): ``nbr_count`` [N] i32, ``nbr_list`` [N·K] i32 (particle slots),
-``build_x`` [N] vec3 (world positions at the last build), ``active`` [N] i32 (the slots with a
-candidate, first nbr_flags[2] of them), ``nbr_flags`` [6 + 3B] i32 (1: rebuild at the next
-placement, MAYBE while note_motion leaves it to close_pairs_moved; builds so far; active particles; then per body b, [3 + b] = 1 when b sleeps and a
-body that does not rest has it in its lists, and [3 + B + b] .. [3 + B + b + 1] its run of the
-active list, on one thread: pair_once.py; [4 + 2B + b] its part of the pair stage (the parallel
-schedule on a CPU, each substep: part_cut.py); [4 + 3B] = 1 when a body is asleep (each
-substep: pair_parts.py); [5 + 3B] = 1 once a list overflowed (list_growth.py);
-one array, as the x64 backend takes at most 64 argument elements), ``grid_params`` [1], [2] = the skin, the relative motion allowed before a
-rebuild (the skin less 2 % for round-off); per body [B]: ``build_pose`` = its x (3) and R
-(9, row by row) at the last build, ρ_b, its largest |r0|, then (motion.note_motion, each substep) e_b,
-the bound on its particles' motion since the build, and (when it asks close_pairs_moved)
-ρ'_b >= its particles' distance from its centre now, then its touching particles (part_cut.py;
-16 floats).
+``build_x`` [N] vec3 (each particle's reference: its world position at the last build, or at
+its body's last refresh, refresh.py), ``active`` [N] i32 (the slots with a candidate, first
+nbr_flags[2] of them), ``nbr_flags`` [9 + 5B] i32 (one array, as the x64 backend takes at most
+64 argument elements):
+  [0] 1: rebuild at the next placement (MAYBE, VIOLATED while the motion test decides:
+      motion.py); [1] builds so far; [2] active particles;
+  per body b: [3 + b] = 1 when b sleeps and a body that does not rest has it in its lists;
+      [3 + B + b] .. [3 + B + b + 1] its run of the active list, on one thread (pair_once.py);
+      [4 + 2B + b] its part of the pair stage (the parallel schedule on a CPU, each substep:
+      part_cut.py);
+  [4 + 3B] .. [6 + 5B] the refreshes' (refresh.py);
+  the last two: 1 when a body is asleep (each substep: pair_parts.py), 1 once a list
+      overflowed (list_growth.py).
+``grid_params`` [1], [2] = the skin, the relative motion allowed before a rebuild (the skin
+less 2 % for round-off); per body [B]: ``build_pose`` = its x (3) and R (9, row by row) at the
+last build or refresh, ρ_b, its largest |r0|, then (motion.note_motion, each substep) e_b, the
+bound on its particles' motion since then, and (when it asks close_pairs_moved) ρ'_b >= its
+particles' distance from its centre now, then its touching particles (part_cut.py), then a
+refreshed body's reach (refresh.py; 17 floats).
 """
 import taichi as ti
 

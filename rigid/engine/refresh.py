@@ -35,6 +35,7 @@ from its centre.
 import taichi as ti
 
 from . import grid, motion, neighbours, stages
+from .arrays import download
 
 REFRESH_FRACTION = 0.25  # of the particles, refreshed since the last full build at most
 PAIR_BUDGET = 16.0  # body pairs a refresh may test (its bodies × the refreshed ones), per particle of the scene
@@ -45,6 +46,11 @@ REACH = 16  # build_pose slot: a refreshed body's particles' largest distance fr
 def flags_size(num_bodies: int) -> int:
     """Length of nbr_flags for ``num_bodies`` bodies in contact (neighbours.py and above)."""
     return 9 + 5 * num_bodies
+
+
+def refreshes_so_far(sim) -> int:
+    """How many substeps refreshed some lists in part (benchmarks: refreshes per substep)."""
+    return int(download(sim._scratch_arrays["nbr_flags"])[6 + 5 * sim.num_bodies]) if sim.many else 0
 
 
 @ti.func
