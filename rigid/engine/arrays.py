@@ -45,7 +45,7 @@ def host_float():
 def _element(kind: str):
     f = float_dtype()
     return {"f": f, "i": ti.i32, "v3": ti.types.vector(3, f), "v4": ti.types.vector(4, f),
-            "v13": ti.types.vector(13, f), "v17": ti.types.vector(17, f), "m3": ti.types.matrix(3, 3, f),
+            "v13": ti.types.vector(13, f), "v16": ti.types.vector(16, f), "m3": ti.types.matrix(3, 3, f),
             "v3i": ti.types.vector(3, ti.i32)}[kind]
 
 
@@ -81,7 +81,7 @@ ScratchArgs = _pack_type(dict(
     particle_f=("v3", 1), particle_couple=("v3", 1), block_energy=("f", 1), partial_F=("v3", 1), partial_tau=("v3", 1),
     cell_count=("i", 1), cell_start=("i", 1),
     sorted_particle=("i", 1), sorted_x=("v3", 1), sorted_body=("i", 1), sorted_run_end=("i", 1), chunk_total=("i", 1), grid_dims=("i", 1), grid_params=("f", 1),
-    nbr_count=("i", 1), nbr_list=("i", 1), build_x=("v3", 1), nbr_flags=("i", 1), active=("i", 1), build_pose=("v17", 1),
+    nbr_count=("i", 1), nbr_list=("i", 1), build_x=("v3", 1), nbr_flags=("i", 1), active=("i", 1), build_pose=("v16", 1),
     rk=("v13", 1), contacts=("i", 1)))
 
 RowArgs = _pack_type(dict(body=("f", 3), contact_energy=("f", 1)))
@@ -205,6 +205,6 @@ def device_array(values: np.ndarray, width: int = 0, dtype=None):
 
 
 def zeros(count: int, kind: str = "f"):
-    """A zero ndarray of ``count`` (at least 1) elements of kind "f", "i", "v3", "v4", "v13", "v17", "m3"
+    """A zero ndarray of ``count`` (at least 1) elements of kind "f", "i", "v3", "v4", "v13", "v16", "m3"
     (Taichi fills a new ndarray with zeros)."""
     return ti.ndarray(_element(kind), max(int(count), 1))

@@ -31,15 +31,15 @@ nbr_flags[2] of them), ``nbr_flags`` [9 + 5B] i32 (one array, as the x64 backend
       [3 + B + b] .. [3 + B + b + 1] its run of the active list, on one thread (pair_once.py);
       [4 + 2B + b] its part of the pair stage (the parallel schedule on a CPU, each substep:
       part_cut.py);
-  [4 + 3B] .. [6 + 5B] the refreshes' (refresh.py);
+  [4 + 3B] .. [6 + 5B] the partial rebuilds' (refresh_state.py);
   the last two: 1 when a body is asleep (each substep: pair_parts.py), 1 once a list
       overflowed (list_growth.py).
 ``grid_params`` [1], [2] = the skin, the relative motion allowed before a rebuild (the skin
 less 2 % for round-off); per body [B]: ``build_pose`` = its x (3) and R (9, row by row) at the
 last build or refresh, ρ_b, its largest |r0|, then (motion.note_motion, each substep) e_b, the
 bound on its particles' motion since then, and (when it asks close_pairs_moved) ρ'_b >= its
-particles' distance from its centre now, then its touching particles (part_cut.py), then a
-refreshed body's reach (refresh.py; 17 floats).
+particles' distance from its centre now, then its touching particles (part_cut.py; 16
+floats).
 """
 import taichi as ti
 

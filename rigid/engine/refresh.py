@@ -12,56 +12,25 @@ bodies that moved most are *refreshed* instead: each keeps its own reference pos
 (a full build sets every reference to now; a refresh sets a body's to now). A particle of body
 b lies within e⁰_b = |Δx_b| + ‖ΔR_b‖₂ ρ_b of its reference (motion._body_shift), so a pair can
 have closed by at most e⁰_a + e⁰_b, and refreshing every body with e⁰ > half the allowed
-motion leaves every pair within it. Refreshing body F: its particles leave their partners'
-lists, its particles are placed and become their references, and their partners are found
-again: the bodies not refreshed since the full build by the build's grid (which holds their
-references, build_x), the refreshed ones (whose references the grid no longer holds) by
-their reference bounding spheres, then their particles. Every list stays sorted by slot and
-symmetric, and holds every touching pair, so every sum runs over the same terms in the same
-order as after a full build: the bits do not change (tests/test_refresh.py).
+motion leaves every pair within it. Refreshing the marked bodies, on one thread (lists shared
+between bodies change): 1. their particles leave their partners' lists; 2. they are placed and
+become their references; 3. their partners are found again (refresh_search.py). Every list
+stays sorted by slot and symmetric, and holds every touching pair, so every sum runs over the
+same terms in the same order as after a full build: the bits do not change
+(tests/test_refresh.py).
 
 A full build is done instead when the refreshed bodies would exceed ``grid_params[4]`` of the
-particles (REFRESH_FRACTION; 0: never refresh), when a refresh would test more body pairs than
-PAIR_BUDGET a particle, when a list has overflowed since (its grid walk would miss the refreshed
-particles: list_growth.py) or would overflow. One thread refreshes (lists shared between
-bodies change); off a CPU the parallel schedule always rebuilds in full.
-
-nbr_flags (neighbours.py) holds, after the parts' slots: per body b, [4 + 3B + b] its state
-(MARKED while refreshed now, REFRESHED since the last full build), the refreshed bodies
-[4 + 4B + k], their number [4 + 5B], their particles [5 + 5B] and the refreshes so far [6 + 5B]
-(benchmarks). A refreshed body's build_pose slot 16 holds its particles' largest distance
-from its centre.
+particles (REFRESH_FRACTION; 0: never refresh), when a list has overflowed since (its grid walk
+would miss the refreshed particles: list_growth.py) or would overflow. Off a CPU the parallel
+schedule always rebuilds in full. Where the refresh keeps its state: refresh_state.py.
 """
 import taichi as ti
 
-from . import grid, motion, neighbours, stages
-from .arrays import download
+from . import motion, neighbours, stages
+from .refresh_search import find_partners, hash_refreshed
+from .refresh_state import REFRESHED, MARKED, at, body_state, marked, num_refreshed, refreshed_body
 
 REFRESH_FRACTION = 0.25  # of the particles, refreshed since the last full build at most
-PAIR_BUDGET = 16.0  # body pairs a refresh may test (its bodies × the refreshed ones), per particle of the scene
-MARKED, REFRESHED = 1, 2  # a body's state bits
-REACH = 16  # build_pose slot: a refreshed body's particles' largest distance from its centre
-
-
-def flags_size(num_bodies: int) -> int:
-    """Length of nbr_flags for ``num_bodies`` bodies in contact (neighbours.py and above)."""
-    return 9 + 5 * num_bodies
-
-
-def refreshes_so_far(sim) -> int:
-    """How many substeps refreshed some lists in part (benchmarks: refreshes per substep)."""
-    return int(download(sim._scratch_arrays["nbr_flags"])[6 + 5 * sim.num_bodies]) if sim.many else 0
-
-
-@ti.func
-def _at(state: ti.template(), what):
-    """Index of the first of the refresh's slots in nbr_flags plus ``what`` (see above)."""
-    return 4 + 3 * state.x.shape[0] + what
-
-
-@ti.func
-def body_state(state: ti.template(), scratch: ti.template(), b):
-    return scratch.nbr_flags[_at(state, b)]
 
 
 @ti.func
@@ -70,15 +39,15 @@ def start_build(state: ti.template(), scratch: ti.template()):
     neighbours.start_build(scratch)
     B = state.x.shape[0]
     keep = 1 - scratch.nbr_flags[0]
-    scratch.nbr_flags[_at(state, 2 * B)] *= keep
-    scratch.nbr_flags[_at(state, 2 * B + 1)] *= keep
+    scratch.nbr_flags[at(state, 2 * B)] *= keep
+    scratch.nbr_flags[at(state, 2 * B + 1)] *= keep
 
 
 @ti.func
 def after_build(state: ti.template(), scratch: ti.template(), b):
     """A full build's end for body b: its pose kept, its references those of the build."""
     motion.keep_build_pose(scratch, state, b)
-    scratch.nbr_flags[_at(state, b)] = 0
+    scratch.nbr_flags[at(state, b)] = 0
 
 
 @ti.func
@@ -106,34 +75,30 @@ def _refresh(model: ti.template(), state: ti.template(), scratch: ti.template(),
     """Refresh every body with e⁰ > half the allowed motion, unless a full build is due; 1 if done."""
     B, N = state.x.shape[0], state.particle_x.shape[0]
     half = 0.5 * scratch.grid_params[2]
-    listed, particles = scratch.nbr_flags[_at(state, 2 * B)], scratch.nbr_flags[_at(state, 2 * B + 1)]
+    listed, particles = num_refreshed(state, scratch), scratch.nbr_flags[at(state, 2 * B + 1)]
     ok = ti.cast(scratch.nbr_flags[scratch.nbr_flags.shape[0] - 1] == 0, ti.i32)  # no list overflowed
-    marked = 0
     if ok:
         for b in range(B):
             dx, turn = motion._body_shift(scratch, state, b)
             moved = dx.norm() + turn
             scratch.build_pose[b][13] = moved  # the motion test is done with slot 13
-            if moved > half:
-                marked += 1
-                if body_state(state, scratch, b) == 0:
-                    particles += model.body_count[b]
-        tested = ti.cast(marked, float) * ti.cast(listed + marked, float)
-        ok = ti.cast(particles <= scratch.grid_params[4] * N and tested <= PAIR_BUDGET * N, ti.i32)
+            if moved > half and body_state(state, scratch, b) == 0:
+                particles += model.body_count[b]
+        ok = ti.cast(particles <= scratch.grid_params[4] * N, ti.i32)
     if ok:
         for b in range(B):
             if scratch.build_pose[b][13] > half:
                 if body_state(state, scratch, b) == 0:
-                    scratch.nbr_flags[_at(state, B + listed)] = b
+                    scratch.nbr_flags[at(state, B + listed)] = b
                     listed += 1
-                scratch.nbr_flags[_at(state, b)] |= MARKED
-        scratch.nbr_flags[_at(state, 2 * B)] = listed
-        scratch.nbr_flags[_at(state, 2 * B + 1)] = particles
+                scratch.nbr_flags[at(state, b)] |= MARKED
+        scratch.nbr_flags[at(state, 2 * B)] = listed
+        scratch.nbr_flags[at(state, 2 * B + 1)] = particles
         ok = _refresh_marked(model, state, scratch)
     if ok:
         for k in range(listed):
-            scratch.nbr_flags[_at(state, scratch.nbr_flags[_at(state, B + k)])] = REFRESHED
-        scratch.nbr_flags[_at(state, 2 * B + 2)] += 1
+            scratch.nbr_flags[at(state, refreshed_body(state, scratch, k))] = REFRESHED
+        scratch.nbr_flags[at(state, 2 * B + 2)] += 1
         n = 0  # the active list again, ascending (on one thread: a parallel list_active's two empty
         for i in range(N):  # loops would cost every substep ~60 µs; this, 1-2 ms a refresh at 1M)
             if scratch.nbr_count[i] > 0:
@@ -167,105 +132,40 @@ def _no_pairs(scratch: ti.template(), i):
 
 
 @ti.func
-def _insert(scratch: ti.template(), i, j, stride):
-    """Slot j into slot i's list, in slot order; 0 if the list is full (then a full build follows)."""
-    n = scratch.nbr_count[i]
-    fits = 0
-    if n < stride:
-        fits = 1
-        base, k = i * stride, n - 1
-        while k >= 0 and scratch.nbr_list[base + k] > j:
-            scratch.nbr_list[base + k + 1] = scratch.nbr_list[base + k]
-            k -= 1
-        scratch.nbr_list[base + k + 1] = j
-        scratch.nbr_count[i] = n + 1
-    return fits
-
-
-@ti.func
 def _refresh_marked(model: ti.template(), state: ti.template(), scratch: ti.template()):
-    """The marked bodies' lists made again (see the module's docstring); 0 if a list overflowed."""
-    B = state.x.shape[0]
+    """The marked bodies' lists made again (the steps of the module's docstring); 0 if a list
+    would overflow or the hash had no room."""
     stride = neighbours.list_stride(scratch, state)
-    listed = scratch.nbr_flags[_at(state, 2 * B)]
+    listed = num_refreshed(state, scratch)
     for k in range(listed):  # 1. out of their partners' lists (the marked ones' are emptied next)
-        a = scratch.nbr_flags[_at(state, B + k)]
-        if body_state(state, scratch, a) & MARKED != 0:
+        a = refreshed_body(state, scratch, k)
+        if marked(state, scratch, a):
             for i in range(model.body_start[a], model.body_start[a] + model.body_count[a]):
                 for t in range(scratch.nbr_count[i]):
                     j = scratch.nbr_list[i * stride + t]
-                    if body_state(state, scratch, model.particle_body[j]) & MARKED == 0:
+                    if not marked(state, scratch, model.particle_body[j]):
                         _remove(scratch, j, i, stride)
     for k in range(listed):  # 2. placed now, their references
-        a = scratch.nbr_flags[_at(state, B + k)]
-        if body_state(state, scratch, a) & MARKED != 0:
+        a = refreshed_body(state, scratch, k)
+        if marked(state, scratch, a):
             motion.keep_build_pose(scratch, state, a)
             R, x, v, w = state.R[a], state.x[a], state.v[a], state.omega[a]
-            reach = 0.0
             for i in range(model.body_start[a], model.body_start[a] + model.body_count[a]):
                 stages.place_body_particle(model, state, i, R, x, v, w)
                 scratch.build_x[i] = state.particle_x[i]
                 scratch.nbr_count[i] = 0
-                reach = ti.max(reach, (state.particle_x[i] - x).norm())
-            scratch.build_pose[a][REACH] = reach * (1.0 + 1e-5)
-    ok = 1
-    for k in range(listed):  # 3. their partners found again
-        a = scratch.nbr_flags[_at(state, B + k)]
-        if body_state(state, scratch, a) & MARKED != 0:
-            ok &= _find_partners(model, state, scratch, a, stride)
+    H = hash_refreshed(model, state, scratch)  # 3. their partners found again
+    ok = ti.cast(H > 0, ti.i32)
     if ok:
         for k in range(listed):
-            a = scratch.nbr_flags[_at(state, B + k)]
-            if body_state(state, scratch, a) & MARKED != 0:
+            a = refreshed_body(state, scratch, k)
+            if marked(state, scratch, a):
+                ok &= find_partners(model, state, scratch, a, stride, H)
+    if ok:
+        for k in range(listed):
+            a = refreshed_body(state, scratch, k)
+            if marked(state, scratch, a):
                 for i in range(model.body_start[a], model.body_start[a] + model.body_count[a]):
                     if scratch.nbr_count[i] == 0:
                         _no_pairs(scratch, i)
-    return ok
-
-
-@ti.func
-def _find_partners(model: ti.template(), state: ti.template(), scratch: ti.template(), a, stride):
-    """Marked body a's pairs (its particles at their new references): with the bodies not refreshed
-    since the full build, from the build's grid (27 cells: no half shell, as only a's side
-    looks); with the refreshed ones (each pair of two marked bodies from the lower index), by
-    their reference spheres. 0 if a list was full."""
-    B = state.x.shape[0]
-    skin = scratch.grid_params[1]
-    r_a = model.particle_radius[a]
-    ok = 1
-    for i in range(model.body_start[a], model.body_start[a] + model.body_count[a]):
-        p = scratch.build_x[i]
-        g = grid.cell_coords(scratch, p)
-        for r in range(grid.ROWS_AROUND):
-            lo, hi = grid.around_range(scratch, g, r)
-            slot = lo
-            while slot < hi:
-                b = scratch.sorted_body[slot]
-                if b == a:  # its own run in this cell, passed over at once
-                    slot = scratch.sorted_run_end[slot]
-                else:
-                    if body_state(state, scratch, b) == 0:
-                        d = scratch.sorted_x[slot] - p
-                        reach = r_a + model.particle_radius[b] + skin
-                        if d.dot(d) < reach * reach:
-                            j = scratch.sorted_particle[slot]
-                            ok &= _insert(scratch, i, j, stride) & _insert(scratch, j, i, stride)
-                    slot += 1
-    pose_a = scratch.build_pose[a]
-    x_a = ti.Vector([pose_a[0], pose_a[1], pose_a[2]])
-    for k in range(scratch.nbr_flags[_at(state, 2 * B)]):
-        b = scratch.nbr_flags[_at(state, B + k)]
-        if b != a and (body_state(state, scratch, b) & MARKED == 0 or b > a):
-            pose_b = scratch.build_pose[b]
-            d = ti.Vector([pose_b[0], pose_b[1], pose_b[2]]) - x_a
-            r_b = model.particle_radius[b]
-            reach = (pose_a[REACH] + pose_b[REACH] + r_a + r_b + skin) * (1.0 + 1e-5)
-            if d.dot(d) < reach * reach:
-                near = r_a + r_b + skin
-                for i in range(model.body_start[a], model.body_start[a] + model.body_count[a]):
-                    p = scratch.build_x[i]
-                    for j in range(model.body_start[b], model.body_start[b] + model.body_count[b]):
-                        e = scratch.build_x[j] - p
-                        if e.dot(e) < near * near:
-                            ok &= _insert(scratch, i, j, stride) & _insert(scratch, j, i, stride)
     return ok

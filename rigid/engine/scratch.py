@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import taichi as ti
 
-from . import neighbours, refresh
+from . import neighbours, refresh, refresh_state
 from .arrays import ScratchArgs, device_array, zeros
 from .grid import GridShape
 
@@ -29,7 +29,7 @@ def make_scratch(model, config, pairs: bool, materials: bool):
                   grid_dims=device_array(np.array([shape.dim, shape.num_cells, shape.num_chunks]), dtype=ti.i32),
                   grid_params=device_array(grid_params(diameter, neighbours.SKIN_FRACTION)),
                   nbr_count=zeros(paired, "i"), nbr_list=zeros(lists, "i"), build_x=zeros(paired, "v3"),
-                  nbr_flags=zeros(refresh.flags_size(B) if pairs else 3, "i"), active=zeros(paired, "i"), build_pose=device_array(build_pose(model), 17),
+                  nbr_flags=zeros(refresh_state.flags_size(B) if pairs else 3, "i"), active=zeros(paired, "i"), build_pose=device_array(build_pose(model), 16),
                   rk=zeros(2 * B, "v13"), contacts=zeros(N + 2 * K + 2 * B if materials else 1, "i"))
     return ScratchArgs()(**{name: arrays[name] for name in ScratchArgs.NAMES}), arrays, shape
 
@@ -50,11 +50,11 @@ def particle_diameter(model) -> float:
 
 
 def build_pose(model) -> np.ndarray:
-    """(B, 17) the neighbour lists' pose per body (set at each build), with ρ_b, the body's
+    """(B, 16) the neighbour lists' pose per body (set at each build), with ρ_b, the body's
     largest particle offset |r0| (rounded up), in slot 12; slots 13, 14 are note_motion's
     (motion.py), then part_cut's; slot 15 the body's touching particles at the parallel pair
-    stage's last run (part_cut.py); slot 16 a refreshed body's reach (refresh.py)."""
+    stage's last run (part_cut.py)."""
     norms = np.linalg.norm(model.r0_np, axis=1)
-    pose = np.zeros((model.num_bodies, 17))
+    pose = np.zeros((model.num_bodies, 16))
     pose[:, 12] = [norms[s:s + c].max() * (1 + 1e-6) + 1e-9 for s, c in zip(model.body_start_np, model.body_count_np)]
     return pose

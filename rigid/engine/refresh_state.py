@@ -1,0 +1,52 @@
+"""Where the partial rebuilds of the neighbour lists (refresh.py) keep their state: in nbr_flags
+(neighbours.py), after the parts' slots. Per body b, [4 + 3B + b] its state (MARKED while it is
+refreshed now, REFRESHED since the last full build); the refreshed bodies [4 + 4B + k], their
+number [4 + 5B], their particles [5 + 5B] and the refreshes so far [6 + 5B] (benchmarks)."""
+import taichi as ti
+
+from .arrays import download
+
+MARKED, REFRESHED = 1, 2  # a body's state bits
+
+
+def flags_size(num_bodies: int) -> int:
+    """Length of nbr_flags for ``num_bodies`` bodies in contact (the last two: neighbours.py)."""
+    return 9 + 5 * num_bodies
+
+
+def refreshes_so_far(sim) -> int:
+    """How many substeps refreshed some lists in part (benchmarks: refreshes per substep)."""
+    return int(download(sim._scratch_arrays["nbr_flags"])[6 + 5 * sim.num_bodies]) if sim.many else 0
+
+
+@ti.func
+def at(state: ti.template(), what):
+    """Index in nbr_flags of the refresh's slot ``what``: b (a body's state), B + k (the k-th
+    refreshed body), 2B (their number), 2B + 1 (their particles), 2B + 2 (refreshes so far)."""
+    return 4 + 3 * state.x.shape[0] + what
+
+
+@ti.func
+def body_state(state: ti.template(), scratch: ti.template(), b):
+    return scratch.nbr_flags[at(state, b)]
+
+
+@ti.func
+def marked(state: ti.template(), scratch: ti.template(), b):
+    return body_state(state, scratch, b) & MARKED != 0
+
+
+@ti.func
+def refreshed_body(state: ti.template(), scratch: ti.template(), k):
+    """The k-th body refreshed since the last full build."""
+    return scratch.nbr_flags[at(state, state.x.shape[0] + k)]
+
+
+@ti.func
+def num_refreshed(state: ti.template(), scratch: ti.template()):
+    return scratch.nbr_flags[at(state, 2 * state.x.shape[0])]
+
+
+@ti.func
+def refreshed_particles(state: ti.template(), scratch: ti.template()):
+    return scratch.nbr_flags[at(state, 2 * state.x.shape[0] + 1)]
