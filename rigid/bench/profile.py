@@ -101,14 +101,17 @@ def profile(sim, settle_frames: int = 60, reps: int = 100) -> dict:
     whole substep as the engine runs it (its own schedule), for comparison."""
     import taichi as ti
 
+    from ..engine.refresh_state import refreshes_so_far
+
     key = id(sim.units)
     if key not in _CACHE:
         _CACHE[key] = _kernels(sim.units)
     k = _CACHE[key]
-    builds0 = sim.neighbour_builds
+    builds0, refreshes0 = sim.neighbour_builds, refreshes_so_far(sim)
     if settle_frames:
         sim.advance_frames(settle_frames)
     rate = (sim.neighbour_builds - builds0) / max(1, settle_frames * sim.substeps)
+    refresh_rate = (refreshes_so_far(sim) - refreshes0) / max(1, settle_frames * sim.substeps)
     whole = []
     for _ in range(3):
         start = time.perf_counter()
@@ -126,7 +129,7 @@ def profile(sim, settle_frames: int = 60, reps: int = 100) -> dict:
     del per_substep["grid"]  # part of the rebuild
     return dict(bodies=sim.num_bodies, particles=sim.num_particles, schedule=sim.schedule,
                 settle_frames=settle_frames, whole_us=round(statistics.median(whole) * 1e6, 1),
-                rebuilds_per_substep=round(rate, 4), neighbours_mean=round(float(counts.mean()), 2),
+                rebuilds_per_substep=round(rate, 4), refreshes_per_substep=round(refresh_rate, 4), neighbours_mean=round(float(counts.mean()), 2),
                 neighbours_max=int(counts.max()), active_particles=active, stage_us={n: round(v, 1) for n, v in stage.items()},
                 per_substep_us={n: round(v, 1) for n, v in per_substep.items()},
                 sum_us=round(sum(per_substep.values()), 1))

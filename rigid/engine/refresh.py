@@ -27,7 +27,7 @@ schedule always rebuilds in full. Where the refresh keeps its state: refresh_sta
 import taichi as ti
 
 from . import motion, neighbours, stages
-from .refresh_search import find_partners, hash_refreshed
+from . import refresh_search
 from .refresh_state import REFRESHED, MARKED, at, body_state, marked, num_refreshed, refreshed_body
 
 REFRESH_FRACTION = 0.25  # of the particles, refreshed since the last full build at most
@@ -76,7 +76,8 @@ def _refresh(model: ti.template(), state: ti.template(), scratch: ti.template(),
     B, N = state.x.shape[0], state.particle_x.shape[0]
     half = 0.5 * scratch.grid_params[2]
     listed, particles = num_refreshed(state, scratch), scratch.nbr_flags[at(state, 2 * B + 1)]
-    ok = ti.cast(scratch.nbr_flags[scratch.nbr_flags.shape[0] - 1] == 0, ti.i32)  # no list overflowed
+    H = refresh_search.buckets(scratch, N)
+    ok = ti.cast(scratch.nbr_flags[scratch.nbr_flags.shape[0] - 1] == 0 and H > 0, ti.i32)  # no list overflowed
     if ok:
         for b in range(B):
             dx, turn = motion._body_shift(scratch, state, b)
@@ -86,6 +87,8 @@ def _refresh(model: ti.template(), state: ti.template(), scratch: ti.template(),
                 particles += model.body_count[b]
         ok = ti.cast(particles <= scratch.grid_params[4] * N, ti.i32)
     if ok:
+        if listed == 0:  # the first refresh since the full build
+            refresh_search.empty_hash(scratch, H)
         for b in range(B):
             if scratch.build_pose[b][13] > half:
                 if body_state(state, scratch, b) == 0:
@@ -94,7 +97,7 @@ def _refresh(model: ti.template(), state: ti.template(), scratch: ti.template(),
                 scratch.nbr_flags[at(state, b)] |= MARKED
         scratch.nbr_flags[at(state, 2 * B)] = listed
         scratch.nbr_flags[at(state, 2 * B + 1)] = particles
-        ok = _refresh_marked(model, state, scratch)
+        ok = _refresh_marked(model, state, scratch, H)
     if ok:
         for k in range(listed):
             scratch.nbr_flags[at(state, refreshed_body(state, scratch, k))] = REFRESHED
@@ -132,9 +135,10 @@ def _no_pairs(scratch: ti.template(), i):
 
 
 @ti.func
-def _refresh_marked(model: ti.template(), state: ti.template(), scratch: ti.template()):
-    """The marked bodies' lists made again (the steps of the module's docstring); 0 if a list
-    would overflow or the hash had no room."""
+def _refresh_marked(model: ti.template(), state: ti.template(), scratch: ti.template(), H):
+    """The marked bodies' lists made again (the steps of the module's docstring, with the hash of
+    the refreshed particles' references, H buckets, kept up: refresh_search.py); 0 if a list
+    would overflow."""
     stride = neighbours.list_stride(scratch, state)
     listed = num_refreshed(state, scratch)
     for k in range(listed):  # 1. out of their partners' lists (the marked ones' are emptied next)
@@ -148,19 +152,20 @@ def _refresh_marked(model: ti.template(), state: ti.template(), scratch: ti.temp
     for k in range(listed):  # 2. placed now, their references
         a = refreshed_body(state, scratch, k)
         if marked(state, scratch, a):
+            if body_state(state, scratch, a) & REFRESHED != 0:  # hashed at its old references
+                refresh_search.unhash_body(model, scratch, a, H)
             motion.keep_build_pose(scratch, state, a)
             R, x, v, w = state.R[a], state.x[a], state.v[a], state.omega[a]
             for i in range(model.body_start[a], model.body_start[a] + model.body_count[a]):
                 stages.place_body_particle(model, state, i, R, x, v, w)
                 scratch.build_x[i] = state.particle_x[i]
                 scratch.nbr_count[i] = 0
-    H = hash_refreshed(model, state, scratch)  # 3. their partners found again
-    ok = ti.cast(H > 0, ti.i32)
-    if ok:
-        for k in range(listed):
-            a = refreshed_body(state, scratch, k)
-            if marked(state, scratch, a):
-                ok &= find_partners(model, state, scratch, a, stride, H)
+            refresh_search.hash_body(model, scratch, a, H)
+    ok = 1
+    for k in range(listed):  # 3. their partners found again
+        a = refreshed_body(state, scratch, k)
+        if marked(state, scratch, a):
+            ok &= refresh_search.find_partners(model, state, scratch, a, stride, H)
     if ok:
         for k in range(listed):
             a = refreshed_body(state, scratch, k)

@@ -2,21 +2,25 @@
 
 The particles not refreshed since the last full build are in the build's grid (grid.py), at
 their references (build_x): the 27 cells around (no half shell: only the refreshed side
-looks). The refreshed ones are not (the grid holds where they were at the build), so at each
-refresh their references are hashed again: cells of the grid's size into H buckets (a power
-of two, at least twice the refreshed particles), a counting sort (count, running sum, scatter)
+looks). The refreshed ones are not (the grid holds where they were at the build), so they are
+kept in a hash of their references: cells of the grid's size into H buckets (a power of two, at
+least twice the most particles a refresh may cover), each bucket a chain through the particles,
 in the grid's cell_count array, which the build uses only while it sorts and is free between
-builds: cell_count[h] is where bucket h ends in cell_count[H ...], which holds the refreshed
-particles' slots bucket after bucket. Hashing the refreshed bodies' reference spheres against
-each other instead (each new one against all) cost up to 33 ms a substep on the 24,000-body
-pile with 9,000 bodies refreshed. Cells far apart may share a bucket (the distance test sorts
-them out) and two of the 27 cells around a particle may too, so ``insert`` passes over a slot
-the list already holds. One thread: the lists of two bodies may share a partner.
+builds: cell_count[h] is the first particle of bucket h (-1: none), cell_count[H + j] the one
+after slot j. A refreshed body's particles leave their old buckets and enter their new ones, so a
+refresh costs its own particles, not all those refreshed since the build (hashing all of them
+again at each refresh cost the 24,000-body pile 13.4 against 7.3 ms a substep in its motion
+stage, which the refresh runs in; testing each new body's reference sphere against every
+refreshed one, and then all their particle pairs, cost the 1,012,000-particle volume soup, 125
+bodies of 8,096 particles, 60 → 99 ns a particle-substep). Cells far apart may share a bucket
+(the distance test sorts them out) and two of the 27 cells around a particle may too, so
+``insert`` passes over a slot the list already holds. One thread: the lists of two bodies may
+share a partner, and the chains' order is then fixed.
 """
 import taichi as ti
 
 from . import grid
-from .refresh_state import body_state, marked, num_refreshed, refreshed_body, refreshed_particles
+from .refresh_state import body_state, marked
 
 CELL_BITS = 1023  # each cell coordinate's low 10 bits go into the hash (no i32 overflow below)
 
@@ -28,34 +32,51 @@ def _bucket(g, H):
 
 
 @ti.func
-def hash_refreshed(model: ti.template(), state: ti.template(), scratch: ti.template()):
-    """The refreshed particles' references hashed into cell_count (one thread, after the marked
-    bodies took their new ones); the number of buckets H, or 0 if cell_count has no room."""
-    n = refreshed_particles(state, scratch)
+def buckets(scratch: ti.template(), n):
+    """H for ``n`` particles: the power of two at least twice the most a refresh may cover
+    (grid_params[4] of them); 0 if cell_count (H heads, then a link per slot) has no room."""
     H = 8
-    while H < 2 * n:
+    while H < 2.0 * scratch.grid_params[4] * n:
         H *= 2
     if H + n > scratch.cell_count.shape[0]:
         H = 0
-    if H > 0:
-        for h in range(H):
-            scratch.cell_count[h] = 0
-        for k in range(num_refreshed(state, scratch)):
-            b = refreshed_body(state, scratch, k)
-            for j in range(model.body_start[b], model.body_start[b] + model.body_count[b]):
-                scratch.cell_count[_bucket(grid.cell_coords(scratch, scratch.build_x[j]), H)] += 1
-        run = 0
-        for h in range(H):  # each bucket's start; the scatter leaves its end there
-            count = scratch.cell_count[h]
-            scratch.cell_count[h] = run
-            run += count
-        for k in range(num_refreshed(state, scratch)):
-            b = refreshed_body(state, scratch, k)
-            for j in range(model.body_start[b], model.body_start[b] + model.body_count[b]):
-                h = _bucket(grid.cell_coords(scratch, scratch.build_x[j]), H)
-                scratch.cell_count[H + scratch.cell_count[h]] = j
-                scratch.cell_count[h] += 1
     return H
+
+
+@ti.func
+def empty_hash(scratch: ti.template(), H):
+    """No particle hashed (the first refresh after a full build)."""
+    for h in range(H):
+        scratch.cell_count[h] = -1
+
+
+@ti.func
+def _reference_bucket(scratch: ti.template(), j, H):
+    return _bucket(grid.cell_coords(scratch, scratch.build_x[j]), H)
+
+
+@ti.func
+def hash_body(model: ti.template(), scratch: ti.template(), b, H):
+    """Body b's particles into the buckets of their references (build_x)."""
+    for j in range(model.body_start[b], model.body_start[b] + model.body_count[b]):
+        h = _reference_bucket(scratch, j, H)
+        scratch.cell_count[H + j] = scratch.cell_count[h]
+        scratch.cell_count[h] = j
+
+
+@ti.func
+def unhash_body(model: ti.template(), scratch: ti.template(), b, H):
+    """Body b's particles out of their buckets (before their references change)."""
+    for j in range(model.body_start[b], model.body_start[b] + model.body_count[b]):
+        h = _reference_bucket(scratch, j, H)
+        if scratch.cell_count[h] == j:
+            scratch.cell_count[h] = scratch.cell_count[H + j]
+        else:
+            k = scratch.cell_count[h]
+            while k >= 0 and scratch.cell_count[H + k] != j:
+                k = scratch.cell_count[H + k]
+            if k >= 0:  # (always: it was hashed at these references)
+                scratch.cell_count[H + k] = scratch.cell_count[H + j]
 
 
 @ti.func
@@ -105,16 +126,13 @@ def find_partners(model: ti.template(), state: ti.template(), scratch: ti.templa
                             ok &= insert(scratch, i, j, stride) & insert(scratch, j, i, stride)
                     slot += 1
         for c in range(27):
-            h = _bucket(g + ti.Vector([c % 3 - 1, (c // 3) % 3 - 1, c // 9 - 1]), H)
-            lo = 0
-            if h > 0:
-                lo = scratch.cell_count[h - 1]
-            for t in range(lo, scratch.cell_count[h]):
-                j = scratch.cell_count[H + t]
+            j = scratch.cell_count[_bucket(g + ti.Vector([c % 3 - 1, (c // 3) % 3 - 1, c // 9 - 1]), H)]
+            while j >= 0:
                 b = model.particle_body[j]
                 if b != a and (not marked(state, scratch, b) or b > a):
                     d = scratch.build_x[j] - p
                     reach = r_a + model.particle_radius[b] + skin
                     if d.dot(d) < reach * reach:
                         ok &= insert(scratch, i, j, stride) & insert(scratch, j, i, stride)
+                j = scratch.cell_count[H + j]
     return ok

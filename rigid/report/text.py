@@ -153,8 +153,8 @@ BONUS = [
 ]
 
 IDEAS = [
-    "Faster many-body contact (see the speed of the piles and of 1,000 bodies above): a broad phase on bounding spheres "
-    "so that bodies far from all others skip the particle search, and sleeping for bodies at rest.",
+    "Faster many-body contact where bodies sink into one another (the volume spheres above): their pair stage "
+    "evaluates ~45 ns a touching pair on one core; the GPU path is written but not yet measured on a GPU.",
     "Smoother contact between bodies: particles make flat faces bumpy (the stack needs its "
     "half-spacing offsets); particle-against-SDF contact would let flat faces rest flat.",
     "Implicit or velocity-level contact (impulses, or a linearised implicit Euler step) to allow "

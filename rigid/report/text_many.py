@@ -82,10 +82,16 @@ def _bench(doc, out: Path, bench: dict | None) -> None:
                  "as they multiply so that the lattice fits the box (bench_many.py's pile_scaling):")
     piles = bench.get("pile_scaling") or []
     if piles:
-        doc.table(["bodies", "particles", "path", "ns/particle-substep falling", "in contact", "rebuilds/substep"],
+        doc.table(["bodies", "particles", "path", "ns/particle-substep falling", "in contact", "full rebuilds/substep",
+                   "partial rebuilds/substep"],
                   [[f"{p['bodies']:,}", f"{p['particles']:,}", p["path"], f"{p['falling_ns_per_particle_substep']:.0f}",
-                    f"{p['contact_ns_per_particle_substep']:.0f}", f"{p['contact_rebuilds_per_substep']:.2f}"]
+                    f"{p['contact_ns_per_particle_substep']:.0f}", f"{p['contact_rebuilds_per_substep']:.2f}",
+                    f"{p.get('contact_refreshes_per_substep', 0.0):.2f}"]
                    for p in piles])
+        doc.para("A partial rebuild (rigid/engine/refresh.py) makes again only the lists of the bodies that outran "
+                 "half the skin; the whole grid and every list are rebuilt once those pass a quarter of the "
+                 "particles. Without it the 24,000-body pile, whose top layer still lands at 1 s, rebuilt all "
+                 "1,008,000 particles' lists every substep: 162-172 ns a particle-substep.")
 
 
 def _rise(rise: float) -> str:
