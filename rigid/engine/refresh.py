@@ -13,11 +13,12 @@ bodies that moved most are *refreshed* instead: each keeps its own reference pos
 b lies within e⁰_b = |Δx_b| + ‖ΔR_b‖₂ ρ_b of its reference (motion._body_shift), so a pair can
 have closed by at most e⁰_a + e⁰_b, and refreshing every body with e⁰ > half the allowed
 motion leaves every pair within it. Refreshing the marked bodies, on one thread (lists shared
-between bodies change): 1. their particles leave their partners' lists; 2. they are placed and
-become their references; 3. their partners are found again (refresh_search.py). Every list
-stays sorted by slot and symmetric, and holds every touching pair, so every sum runs over the
-same terms in the same order as after a full build: the bits do not change
-(tests/test_refresh.py).
+between bodies change): 1. their particles leave their partners' lists; 2. their positions now
+become their references (build_x; the placement that follows places the particles themselves,
+so a particle's position never depends on when lists were refreshed); 3. their partners are
+found again (refresh_search.py). Every list stays sorted by slot and symmetric, and holds every
+touching pair, so every sum runs over the same terms in the same order as after a full build:
+the bits do not change (tests/test_refresh.py; but see skin.py on sleeping bodies).
 
 A full build is done instead when the refreshed bodies would exceed ``grid_params[4]`` of the
 particles (REFRESH_FRACTION; 0: never refresh), when a list has overflowed since (its grid walk
@@ -26,8 +27,8 @@ schedule always rebuilds in full. Where the refresh keeps its state: refresh_sta
 """
 import taichi as ti
 
-from . import motion, neighbours, stages
-from . import refresh_search
+from . import motion, neighbours, refresh_search
+from .matvec import body_offset, matvec
 from .refresh_state import REFRESHED, MARKED, at, body_state, marked, num_refreshed, refreshed_body
 
 REFRESH_FRACTION = 0.25  # of the particles, refreshed since the last full build at most
@@ -149,16 +150,15 @@ def _refresh_marked(model: ti.template(), state: ti.template(), scratch: ti.temp
                     j = scratch.nbr_list[i * stride + t]
                     if not marked(state, scratch, model.particle_body[j]):
                         _remove(scratch, j, i, stride)
-    for k in range(listed):  # 2. placed now, their references
-        a = refreshed_body(state, scratch, k)
+    for k in range(listed):  # 2. their references now (particle_x is left to the placement, which
+        a = refreshed_body(state, scratch, k)  # follows: the same code places a particle whatever the lists)
         if marked(state, scratch, a):
             if body_state(state, scratch, a) & REFRESHED != 0:  # hashed at its old references
                 refresh_search.unhash_body(model, scratch, a, H)
             motion.keep_build_pose(scratch, state, a)
-            R, x, v, w = state.R[a], state.x[a], state.v[a], state.omega[a]
+            R, x = state.R[a], state.x[a]
             for i in range(model.body_start[a], model.body_start[a] + model.body_count[a]):
-                stages.place_body_particle(model, state, i, R, x, v, w)
-                scratch.build_x[i] = state.particle_x[i]
+                scratch.build_x[i] = x + matvec(R, body_offset(model, i))
                 scratch.nbr_count[i] = 0
             refresh_search.hash_body(model, scratch, a, H)
     ok = 1
