@@ -8,11 +8,13 @@ least twice the most particles a refresh may cover), each bucket a chain through
 in the grid's cell_count array, which the build uses only while it sorts and is free between
 builds: cell_count[h] is the first particle of bucket h (-1: none), cell_count[H + j] the one
 after slot j. A refreshed body's particles leave their old buckets and enter their new ones, so a
-refresh costs its own particles, not all those refreshed since the build (hashing all of them
-again at each refresh cost the 24,000-body pile 13.4 against 7.3 ms a substep in its motion
-stage, which the refresh runs in; testing each new body's reference sphere against every
-refreshed one, and then all their particle pairs, cost the 1,012,000-particle volume soup, 125
-bodies of 8,096 particles, 60 → 99 ns a particle-substep). Cells far apart may share a bucket
+refresh costs its own particles, not all those refreshed since the build (a counting sort of all
+of them at each refresh ran as fast on the 24,000-body pile, interleaved, but its cost grows with
+them; testing each new body's reference sphere against every refreshed one, and then all their
+particle pairs, cost the 1,012,000-particle volume soup, 125 bodies of 8,096 particles, 60 → 99
+ns a particle-substep). Searching the refreshed bodies side by side on both threads (each its own
+lists, then one thread the other sides) did not pay: 16.4 against 16.6 ms a substep on that
+pile. Cells far apart may share a bucket
 (the distance test sorts them out) and two of the 27 cells around a particle may too, so
 ``insert`` passes over a slot the list already holds. One thread: the lists of two bodies may
 share a partner, and the chains' order is then fixed.
