@@ -33,7 +33,7 @@ from .refresh_state import REFRESHED, MARKED, at, body_state, marked, num_refres
 
 # Of the particles, refreshed since the last full build at most. On the 24,000-body pile at 1 s a
 # refresh marks ~12 % of the bodies at a skin of a tenth of a diameter: 0.0625 never refreshed
-# there (170 ns a particle-substep), 0.125 ran 57-63 ns, 0.25 62-68, 0.5 80 (a costlier search).
+# there (170 ns a particle-substep), 0.125 ran 57-63 ns, 0.25 62-68, 0.5 80 (the first search).
 REFRESH_FRACTION = 0.25
 
 
