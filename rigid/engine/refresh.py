@@ -18,7 +18,7 @@ become their references (build_x; the placement that follows places the particle
 so a particle's position never depends on when lists were refreshed); 3. their partners are
 found again (refresh_search.py). Every list stays sorted by slot and symmetric, and holds every
 touching pair, so every sum runs over the same terms in the same order as after a full build:
-the bits do not change (tests/test_refresh.py; but see skin.py on sleeping bodies).
+the bits do not change (tests/test_refresh.py, tests/test_skin.py).
 
 A full build is done instead when the refreshed bodies would exceed ``grid_params[4]`` of the
 particles (REFRESH_FRACTION; 0: never refresh), when a list has overflowed since (its grid walk

@@ -18,13 +18,8 @@ particle-substep instead of 63.) The grid's cells follow (the
 diameter plus the skin), and the lists are rebuilt at the next placement. The skin changes
 which pairs a list holds beyond contact, never the sums: each runs over the touching pairs
 in slot order (and a list that overflows grows, list_growth.py), so a run keeps its bits,
-whatever its chunks. Not yet with sleeping bodies in every scene (found 2026-12-05):
-``pile.toml``'s volume bodies, once some sleep, part at ~1e-6 in momentum from frame 90 when
-the lists are rebuilt at other times (this adaptation's thresholds changed, or the partial
-rebuilds of refresh.py on or off; with ``sleep = false`` they keep their bits over 160
-frames, and the 27-sphere pile keeps them asleep or not: tests/test_skin.py). A frame-end
-placement between two substeps makes them agree again, so some position a sleeper's pairs
-read mid-frame depends on when it was last placed; the cause is not found yet.
+whatever its chunks, with bodies asleep too (a sleeper's particles are placed once, when it
+falls asleep: pair_stages.place_for_pairs says why).
 """
 from __future__ import annotations
 
