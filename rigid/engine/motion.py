@@ -47,7 +47,7 @@ def _turn_norm(R, R0):
 
 
 @ti.func
-def _body_shift(scratch: ti.template(), state: ti.template(), b):
+def body_shift(scratch: ti.template(), state: ti.template(), b):
     """(Δx of body b since the last build, the bound _turn_norm(R, R_build) ρ_b)."""
     pose = scratch.build_pose[b]
     x, R = state.x[b], state.R[b]
@@ -75,13 +75,13 @@ def note_motion(scratch: ti.template(), state: ti.template()):
     lo = ti.Vector([1e30, 1e30, 1e30], float)
     hi = -lo
     for b in range(B):
-        dx, _turn = _body_shift(scratch, state, b)
+        dx, _turn = body_shift(scratch, state, b)
         lo = ti.min(lo, dx)
         hi = ti.max(hi, dx)
     c = 0.5 * (lo + hi)
     first, second = 0.0, 0.0
     for b in range(B):
-        dx, turn = _body_shift(scratch, state, b)
+        dx, turn = body_shift(scratch, state, b)
         e = (dx - c).norm() + turn
         if not (e <= 1e30):
             e = 1e30

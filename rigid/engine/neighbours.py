@@ -135,8 +135,14 @@ def finish_list(state: ti.template(), scratch: ti.template(), i, parallel: ti.te
         if ti.static(not parallel):
             scratch.active[ti.atomic_add(scratch.nbr_flags[2], 1)] = i
     else:  # never visited: no pair force until the next build
-        scratch.particle_f[i] = ti.Vector.zero(float, 3)
-        scratch.particle_couple[i] = ti.Vector.zero(float, 3)
+        no_pair_force(scratch, i)
+
+
+@ti.func
+def no_pair_force(scratch: ti.template(), i):
+    """A particle the pair stage will not visit (no candidate): no pair force or couple."""
+    scratch.particle_f[i] = ti.Vector.zero(float, 3)
+    scratch.particle_couple[i] = ti.Vector.zero(float, 3)
 
 
 @ti.func

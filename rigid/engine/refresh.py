@@ -10,7 +10,7 @@ bodies that moved most are *refreshed* instead: each keeps its own reference pos
   every pair is listed exactly when its particles' reference positions are within reach + skin
 
 (a full build sets every reference to now; a refresh sets a body's to now). A particle of body
-b lies within e⁰_b = |Δx_b| + ‖ΔR_b‖₂ ρ_b of its reference (motion._body_shift), so a pair can
+b lies within e⁰_b = |Δx_b| + ‖ΔR_b‖₂ ρ_b of its reference (motion.body_shift), so a pair can
 have closed by at most e⁰_a + e⁰_b, and refreshing every body with e⁰ > half the allowed
 motion leaves every pair within it. Refreshing the marked bodies, on one thread (lists shared
 between bodies change): 1. their particles leave their partners' lists; 2. their positions now
@@ -29,7 +29,8 @@ import taichi as ti
 
 from . import motion, neighbours, refresh_search
 from .matvec import body_offset, matvec
-from .refresh_state import REFRESHED, MARKED, at, body_state, marked, num_refreshed, refreshed_body
+from .refresh_state import (MARKED, REFRESHED, at, body_state, marked, num_refreshed, refreshed_body,
+                            refreshed_particles)
 
 # Of the particles, refreshed since the last full build at most. On the 24,000-body pile at 1 s a
 # refresh marks ~12 % of the bodies at a skin of a tenth of a diameter: 0.0625 never refreshed
@@ -79,12 +80,12 @@ def _refresh(model: ti.template(), state: ti.template(), scratch: ti.template(),
     """Refresh every body with e⁰ > half the allowed motion, unless a full build is due; 1 if done."""
     B, N = state.x.shape[0], state.particle_x.shape[0]
     half = 0.5 * scratch.grid_params[2]
-    listed, particles = num_refreshed(state, scratch), scratch.nbr_flags[at(state, 2 * B + 1)]
+    listed, particles = num_refreshed(state, scratch), refreshed_particles(state, scratch)
     H = refresh_search.buckets(scratch, N)
     ok = ti.cast(scratch.nbr_flags[scratch.nbr_flags.shape[0] - 1] == 0 and H > 0, ti.i32)  # no list overflowed
     if ok:
         for b in range(B):
-            dx, turn = motion._body_shift(scratch, state, b)
+            dx, turn = motion.body_shift(scratch, state, b)
             moved = dx.norm() + turn
             scratch.build_pose[b][13] = moved  # the motion test is done with slot 13
             if moved > half and body_state(state, scratch, b) == 0:
@@ -128,14 +129,7 @@ def _remove(scratch: ti.template(), j, i, stride):
             kept += 1
     scratch.nbr_count[j] = kept
     if kept == 0:
-        _no_pairs(scratch, j)
-
-
-@ti.func
-def _no_pairs(scratch: ti.template(), i):
-    """A particle the pair stage will not visit: no pair force or couple (as neighbours.finish_list)."""
-    scratch.particle_f[i] = ti.Vector.zero(float, 3)
-    scratch.particle_couple[i] = ti.Vector.zero(float, 3)
+        neighbours.no_pair_force(scratch, j)
 
 
 @ti.func
@@ -175,5 +169,5 @@ def _refresh_marked(model: ti.template(), state: ti.template(), scratch: ti.temp
             if marked(state, scratch, a):
                 for i in range(model.body_start[a], model.body_start[a] + model.body_count[a]):
                     if scratch.nbr_count[i] == 0:
-                        _no_pairs(scratch, i)
+                        neighbours.no_pair_force(scratch, i)
     return ok
