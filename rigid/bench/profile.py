@@ -28,7 +28,7 @@ def _kernels(units):
     def place(model: M, state: S, scratch: C, reps: ti.i32):
         ti.loop_config(serialize=True)
         for _ in range(reps):
-            pair_stages.note_motion(model, state, scratch, False, False)
+            pair_stages.note_motion(model, state, scratch, False, False, False)
             pair_stages.place_for_pairs(model, state, scratch, True, False)  # as the serial schedule with sleeping
 
     @ti.kernel

@@ -66,7 +66,7 @@ class EngineKernels:
             ``everything`` (0 or 1, may be a run-time value) or a rebuild), and the neighbour lists
             rebuilt (grid and lists) if a particle may have moved half the skin since their last build."""
             if ti.static(pairs):
-                pair_stages.note_motion(model, state, scratch, parallel, refreshing)
+                pair_stages.note_motion(model, state, scratch, parallel, refreshing, False)
                 place_and_build(model, state, scratch, parallel, everything)
             else:
                 stages.place_particles(model, state)

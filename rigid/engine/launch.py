@@ -21,6 +21,7 @@ not as expected it falls back to the plain call, which gives the same results.
 from __future__ import annotations
 
 from .arrays import IntCell, _cpu_pointer, byte_size
+from .refresh import PENDING
 from .threads import pin_workers
 
 
@@ -64,25 +65,29 @@ def schedule_launches(schedule: str, kernels, model, state, world, scratch, rows
 
 
 class SplitLaunch:
-    """A parallel substep as split_substep.py's parts: the motion test, then the placement and
-    rebuild or the placement alone, as the rebuild flag (``rebuild``, an IntCell) says, then the
-    forces and the update."""
+    """A parallel substep as split_substep.py's parts: the motion test, then a refresh's search if
+    it left one pending, then the placement and rebuild or the placement alone, as the rebuild flag
+    (``rebuild``, an IntCell) says, then the forces and the update."""
 
     def __init__(self, split, rebuild, model, state, world, scratch):
         self._rebuild = rebuild
         self._motion = PreparedLaunch(split.motion, model, state, scratch)
+        self._refresh = PreparedLaunch(split.refresh, model, state, scratch) if split.refresh else None
         self._build = PreparedLaunch(split.build, model, state, scratch)
         self._place = PreparedLaunch(split.place, model, state, scratch)
         self._forces = PreparedLaunch(split.forces, model, state, world, scratch)
 
     def __call__(self) -> None:
         self._motion()
+        if self._refresh is not None and self._rebuild.value == PENDING:
+            self._refresh()
         (self._build if self._rebuild.value else self._place)()
         self._forces()
 
     @property
     def prepared(self) -> bool:
-        return all(p.prepared for p in (self._motion, self._build, self._place, self._forces))
+        launches = (self._motion, self._refresh, self._build, self._place, self._forces)
+        return all(p.prepared for p in launches if p is not None)
 
 
 def run_chunk(launches: dict, schedule: str, frames: int, substeps: int) -> None:

@@ -12,12 +12,12 @@ from .contact import pair_contact
 
 @ti.func
 def note_motion(model: ti.template(), state: ti.template(), scratch: ti.template(), parallel: ti.template(),
-                refresh_lists: ti.template()):
+                refresh_lists: ti.template(), defer_search: ti.template()):
     """Stage 1a (bodies in contact): whether the neighbour lists must be rebuilt (motion.py):
     each body's motion on one thread (a parallel kernel's top level would split its loops), then
     the pairs of bodies near enough to touch, in parallel with ``parallel``; then, if a pair
     moved too far, the bodies that moved refreshed (with ``refresh_lists``: refresh.py) or a
-    full build asked for."""
+    full build asked for (``defer_search``: the refresh's search left to split_substep.py)."""
     if ti.static(parallel):
         ti.loop_config(serialize=True)
         for _ in range(1):
@@ -26,12 +26,12 @@ def note_motion(model: ti.template(), state: ti.template(), scratch: ti.template
             motion.close_pairs_moved(model, state, scratch, a)
         ti.loop_config(serialize=True)
         for _ in range(1):
-            refresh.settle(model, state, scratch, parallel, refresh_lists)
+            refresh.settle(model, state, scratch, parallel, refresh_lists, defer_search)
     else:
         motion.note_motion(scratch, state)
         for a in range(state.x.shape[0] * motion.motion_undecided(scratch)):
             motion.close_pairs_moved(model, state, scratch, a)
-        refresh.settle(model, state, scratch, parallel, refresh_lists)
+        refresh.settle(model, state, scratch, parallel, refresh_lists, defer_search)
 
 
 @ti.func

@@ -29,13 +29,14 @@ import taichi as ti
 
 from . import motion, neighbours, refresh_search
 from .matvec import body_offset, matvec
-from .refresh_state import (MARKED, REFRESHED, at, body_state, marked, num_refreshed, refreshed_body,
-                            refreshed_particles)
+from .refresh_state import (BUCKETS, FULL, MARKED, REFRESHED, SEARCHING, at, body_state, marked,
+                            num_refreshed, refreshed_body, refreshed_particles, searching)
 
 # Of the particles, refreshed since the last full build at most. On the 24,000-body pile at 1 s a
 # refresh marks ~12 % of the bodies at a skin of a tenth of a diameter: 0.0625 never refreshed
 # there (170 ns a particle-substep), 0.125 ran 57-63 ns, 0.25 62-68, 0.5 80 (the first search).
 REFRESH_FRACTION = 0.25
+PENDING = 4  # nbr_flags[0] from a refresh's preparation to its search's end (then 0, or 1: a full build)
 
 
 @ti.func
@@ -57,18 +58,25 @@ def after_build(state: ti.template(), scratch: ti.template(), b):
 
 @ti.func
 def settle(model: ti.template(), state: ti.template(), scratch: ti.template(), parallel: ti.template(),
-           enabled: ti.template()):
+           enabled: ti.template(), defer: ti.template()):
     """After close_pairs_moved (one thread): no rebuild if no pair moved too far, else a refresh
-    if it can be done (``enabled``, on one thread or a CPU), else a full build."""
+    if it can be done (``enabled``, on one thread or a CPU), else a full build. The refresh's
+    search then runs here, or with ``defer`` is left PENDING for split_substep.py's launch, which
+    runs ``search`` on both threads and then ``finish``."""
     flag = scratch.nbr_flags[0]
     if flag == motion.MAYBE:
         flag = 0
     elif flag == motion.VIOLATED:
         flag = 1
         if ti.static(enabled and (not parallel or _on_cpu())):
-            if _refresh(model, state, scratch, parallel):
-                flag = 0
+            if _prepare(model, state, scratch):
+                flag = PENDING
     scratch.nbr_flags[0] = flag
+    if ti.static(enabled and not defer):
+        if flag == PENDING:
+            for t in range(searching(state, scratch)):
+                search(model, state, scratch, t)
+            finish(model, state, scratch, parallel)
 
 
 def _on_cpu() -> bool:
@@ -76,8 +84,9 @@ def _on_cpu() -> bool:
 
 
 @ti.func
-def _refresh(model: ti.template(), state: ti.template(), scratch: ti.template(), parallel: ti.template()):
-    """Refresh every body with e⁰ > half the allowed motion, unless a full build is due; 1 if done."""
+def _prepare(model: ti.template(), state: ti.template(), scratch: ti.template()):
+    """Mark every body with e⁰ > half the allowed motion and make its lists ready to be searched
+    again (steps 1 and 2), unless a full build is due; 1 if so."""
     B, N = state.x.shape[0], state.particle_x.shape[0]
     half = 0.5 * scratch.grid_params[2]
     listed, particles = num_refreshed(state, scratch), refreshed_particles(state, scratch)
@@ -102,19 +111,9 @@ def _refresh(model: ti.template(), state: ti.template(), scratch: ti.template(),
                 scratch.nbr_flags[at(state, b)] |= MARKED
         scratch.nbr_flags[at(state, 2 * B)] = listed
         scratch.nbr_flags[at(state, 2 * B + 1)] = particles
-        ok = _refresh_marked(model, state, scratch, H)
-    if ok:
-        for k in range(listed):
-            scratch.nbr_flags[at(state, refreshed_body(state, scratch, k))] = REFRESHED
-        scratch.nbr_flags[at(state, 2 * B + 2)] += 1
-        n = 0  # the active list again, ascending (on one thread: a parallel list_active's two empty
-        for i in range(N):  # loops would cost every substep ~60 µs; this, 1-2 ms a refresh at 1M)
-            if scratch.nbr_count[i] > 0:
-                scratch.active[n] = i
-                n += 1
-        scratch.nbr_flags[2] = n
-        if ti.static(not parallel):
-            neighbours.index_active_by_body(model, state, scratch)
+        scratch.nbr_flags[at(state, 2 * B + BUCKETS)] = H
+        scratch.nbr_flags[at(state, 2 * B + FULL)] = 0
+        _unlist_and_rehash(model, state, scratch, H)
     return ok
 
 
@@ -133,10 +132,10 @@ def _remove(scratch: ti.template(), j, i, stride):
 
 
 @ti.func
-def _refresh_marked(model: ti.template(), state: ti.template(), scratch: ti.template(), H):
-    """The marked bodies' lists made again (the steps of the module's docstring, with the hash of
-    the refreshed particles' references, H buckets, kept up: refresh_search.py); 0 if a list
-    would overflow."""
+def _unlist_and_rehash(model: ti.template(), state: ti.template(), scratch: ti.template(), H):
+    """Steps 1 and 2 for the marked bodies, with the hash of the refreshed particles' references (H
+    buckets, refresh_search.py) kept up; their particles, to be searched, in the active list
+    (which finish makes again)."""
     stride = neighbours.list_stride(scratch, state)
     listed = num_refreshed(state, scratch)
     for k in range(listed):  # 1. out of their partners' lists (the marked ones' are emptied next)
@@ -147,6 +146,7 @@ def _refresh_marked(model: ti.template(), state: ti.template(), scratch: ti.temp
                     j = scratch.nbr_list[i * stride + t]
                     if not marked(state, scratch, model.particle_body[j]):
                         _remove(scratch, j, i, stride)
+    n = 0
     for k in range(listed):  # 2. their references now (particle_x is left to the placement, which
         a = refreshed_body(state, scratch, k)  # follows: the same code places a particle whatever the lists)
         if marked(state, scratch, a):
@@ -157,17 +157,54 @@ def _refresh_marked(model: ti.template(), state: ti.template(), scratch: ti.temp
             for i in range(model.body_start[a], model.body_start[a] + model.body_count[a]):
                 scratch.build_x[i] = x + matvec(R, body_offset(model, i))
                 scratch.nbr_count[i] = 0
+                scratch.active[n] = i
+                n += 1
             refresh_search.hash_body(model, scratch, a, H)
-    ok = 1
-    for k in range(listed):  # 3. their partners found again
-        a = refreshed_body(state, scratch, k)
-        if marked(state, scratch, a):
-            ok &= refresh_search.find_partners(model, state, scratch, a, stride, H)
-    if ok:
-        for k in range(listed):
-            a = refreshed_body(state, scratch, k)
-            if marked(state, scratch, a):
-                for i in range(model.body_start[a], model.body_start[a] + model.body_count[a]):
-                    if scratch.nbr_count[i] == 0:
-                        neighbours.no_pair_force(scratch, i)
-    return ok
+    scratch.nbr_flags[at(state, 2 * state.x.shape[0] + SEARCHING)] = n
+
+
+@ti.func
+def search(model: ti.template(), state: ti.template(), scratch: ti.template(), t):
+    """3. The t-th marked particle's partners found again, into its own list only (so the marked
+    particles may search side by side: split_substep.py)."""
+    B = state.x.shape[0]
+    stride = neighbours.list_stride(scratch, state)
+    H = scratch.nbr_flags[at(state, 2 * B + BUCKETS)]
+    if not refresh_search.find_partners(model, state, scratch, scratch.active[t], stride, H):
+        scratch.nbr_flags[at(state, 2 * B + FULL)] = 1
+
+
+@ti.func
+def finish(model: ti.template(), state: ti.template(), scratch: ti.template(), parallel: ti.template()):
+    """After ``search`` (one thread): each marked particle entered in the lists of its partners
+    not marked (a marked partner found it itself: the distance test is symmetric), and the
+    active list made again; else (a list full) a full build."""
+    if scratch.nbr_flags[0] == PENDING:
+        B, N = state.x.shape[0], state.particle_x.shape[0]
+        stride = neighbours.list_stride(scratch, state)
+        ok = 1 - scratch.nbr_flags[at(state, 2 * B + FULL)]
+        n = searching(state, scratch)
+        for t in range(n * ok):
+            i = scratch.active[t]
+            for s in range(scratch.nbr_count[i]):
+                j = scratch.nbr_list[i * stride + s]
+                if not marked(state, scratch, model.particle_body[j]):
+                    ok &= refresh_search.insert(scratch, j, i, stride)
+        flag = 1
+        if ok:
+            flag = 0
+            for t in range(n):
+                if scratch.nbr_count[scratch.active[t]] == 0:
+                    neighbours.no_pair_force(scratch, scratch.active[t])
+            for k in range(num_refreshed(state, scratch)):
+                scratch.nbr_flags[at(state, refreshed_body(state, scratch, k))] = REFRESHED
+            scratch.nbr_flags[at(state, 2 * B + 2)] += 1
+            m = 0  # the active list again, ascending (on one thread: a parallel list_active's two empty
+            for i in range(N):  # loops would cost every substep ~60 µs; this, 1-2 ms a refresh at 1M)
+                if scratch.nbr_count[i] > 0:
+                    scratch.active[m] = i
+                    m += 1
+            scratch.nbr_flags[2] = m
+            if ti.static(not parallel):
+                neighbours.index_active_by_body(model, state, scratch)
+        scratch.nbr_flags[0] = flag

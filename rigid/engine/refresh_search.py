@@ -12,17 +12,16 @@ refresh costs its own particles, not all those refreshed since the build (a coun
 of them at each refresh ran as fast on the 24,000-body pile, interleaved, but its cost grows with
 them; testing each new body's reference sphere against every refreshed one, and then all their
 particle pairs, cost the 1,012,000-particle volume soup, 125 bodies of 8,096 particles, 60 → 99
-ns a particle-substep). Searching the refreshed bodies side by side on both threads (each its own
-lists, then one thread the other sides) did not pay: 16.4 against 16.6 ms a substep on that
-pile. Cells far apart may share a bucket
-(the distance test sorts them out) and two of the 27 cells around a particle may too, so
-``insert`` passes over a slot the list already holds. One thread: the lists of two bodies may
-share a partner, and the chains' order is then fixed.
+ns a particle-substep). Cells far apart may share a bucket (the distance test sorts them out)
+and two of the 27 cells around a particle may too, so ``insert`` passes over a slot the list
+already holds. Each marked particle fills only its own list, so they may search side by side
+(refresh.finish then enters the other sides on one thread); a list is a sorted set, so neither
+the order they search in nor the chains' order changes it.
 """
 import taichi as ti
 
 from . import grid
-from .refresh_state import body_state, marked
+from .refresh_state import body_state
 
 CELL_BITS = 1023  # each cell coordinate's low 10 bits go into the hash (no i32 overflow below)
 
@@ -102,39 +101,38 @@ def insert(scratch: ti.template(), i, j, stride):
 
 
 @ti.func
-def find_partners(model: ti.template(), state: ti.template(), scratch: ti.template(), a, stride, H):
-    """Marked body a's pairs, its particles at their new references (build_x): with the particles
-    not refreshed since the full build, in the build's grid; with the refreshed ones, in the hash
-    (H buckets; each pair of two marked bodies from the lower body's side). 0 if a list was full."""
+def find_partners(model: ti.template(), state: ti.template(), scratch: ti.template(), i, stride, H):
+    """The partners of slot i, of a marked body, at its new reference (build_x), into its own list
+    only: the particles not refreshed since the full build in the build's grid, the refreshed ones
+    (marked too or not) in the hash (H buckets). 0 if the list was full."""
     skin = scratch.grid_params[1]
+    a = model.particle_body[i]
     r_a = model.particle_radius[a]
+    p = scratch.build_x[i]
+    g = grid.cell_coords(scratch, p)
     ok = 1
-    for i in range(model.body_start[a], model.body_start[a] + model.body_count[a]):
-        p = scratch.build_x[i]
-        g = grid.cell_coords(scratch, p)
-        for r in range(grid.ROWS_AROUND):
-            lo, hi = grid.around_range(scratch, g, r)
-            slot = lo
-            while slot < hi:
-                b = scratch.sorted_body[slot]
-                if b == a:  # its own run in this cell, passed over at once
-                    slot = scratch.sorted_run_end[slot]
-                else:
-                    if body_state(state, scratch, b) == 0:  # not refreshed since the full build
-                        d = scratch.sorted_x[slot] - p
-                        reach = r_a + model.particle_radius[b] + skin
-                        if d.dot(d) < reach * reach:
-                            j = scratch.sorted_particle[slot]
-                            ok &= insert(scratch, i, j, stride) & insert(scratch, j, i, stride)
-                    slot += 1
-        for c in range(27):
-            j = scratch.cell_count[_bucket(g + ti.Vector([c % 3 - 1, (c // 3) % 3 - 1, c // 9 - 1]), H)]
-            while j >= 0:
-                b = model.particle_body[j]
-                if b != a and (not marked(state, scratch, b) or b > a):
-                    d = scratch.build_x[j] - p
+    for r in range(grid.ROWS_AROUND):
+        lo, hi = grid.around_range(scratch, g, r)
+        slot = lo
+        while slot < hi:
+            b = scratch.sorted_body[slot]
+            if b == a:  # its own run in this cell, passed over at once
+                slot = scratch.sorted_run_end[slot]
+            else:
+                if body_state(state, scratch, b) == 0:  # not refreshed since the full build
+                    d = scratch.sorted_x[slot] - p
                     reach = r_a + model.particle_radius[b] + skin
                     if d.dot(d) < reach * reach:
-                        ok &= insert(scratch, i, j, stride) & insert(scratch, j, i, stride)
-                j = scratch.cell_count[H + j]
+                        ok &= insert(scratch, i, scratch.sorted_particle[slot], stride)
+                slot += 1
+    for c in range(27):
+        j = scratch.cell_count[_bucket(g + ti.Vector([c % 3 - 1, (c // 3) % 3 - 1, c // 9 - 1]), H)]
+        while j >= 0:
+            b = model.particle_body[j]
+            if b != a:
+                d = scratch.build_x[j] - p
+                reach = r_a + model.particle_radius[b] + skin
+                if d.dot(d) < reach * reach:
+                    ok &= insert(scratch, i, j, stride)
+            j = scratch.cell_count[H + j]
     return ok

@@ -1,17 +1,21 @@
 """Where the partial rebuilds of the neighbour lists (refresh.py) keep their state: in nbr_flags
 (neighbours.py), after the parts' slots. Per body b, [4 + 3B + b] its state (MARKED while it is
 refreshed now, REFRESHED since the last full build); the refreshed bodies [4 + 4B + k], their
-number [4 + 5B], their particles [5 + 5B] and the refreshes so far [6 + 5B] (benchmarks)."""
+number [4 + 5B], their particles [5 + 5B], the refreshes so far [6 + 5B] (benchmarks); while a
+refresh searches (refresh.PENDING): its particles' number [7 + 5B] (the particles themselves in
+the active list, which the refresh makes again after), the hash's buckets [8 + 5B] and whether a
+list was full [9 + 5B]."""
 import taichi as ti
 
 from .arrays import download
 
 MARKED, REFRESHED = 1, 2  # a body's state bits
+SEARCHING, BUCKETS, FULL = 3, 4, 5  # past 2B: the searching particles' number, the hash's H, a list full
 
 
 def flags_size(num_bodies: int) -> int:
     """Length of nbr_flags for ``num_bodies`` bodies in contact (the last two: neighbours.py)."""
-    return 9 + 5 * num_bodies
+    return 12 + 5 * num_bodies
 
 
 def refreshes_so_far(sim) -> int:
@@ -22,7 +26,8 @@ def refreshes_so_far(sim) -> int:
 @ti.func
 def at(state: ti.template(), what):
     """Index in nbr_flags of the refresh's slot ``what``: b (a body's state), B + k (the k-th
-    refreshed body), 2B (their number), 2B + 1 (their particles), 2B + 2 (refreshes so far)."""
+    refreshed body), 2B (their number), 2B + 1 (their particles), 2B + 2 (refreshes so far),
+    then SEARCHING, BUCKETS, FULL past 2B."""
     return 4 + 3 * state.x.shape[0] + what
 
 
@@ -50,3 +55,9 @@ def num_refreshed(state: ti.template(), scratch: ti.template()):
 @ti.func
 def refreshed_particles(state: ti.template(), scratch: ti.template()):
     return scratch.nbr_flags[at(state, 2 * state.x.shape[0] + 1)]
+
+
+@ti.func
+def searching(state: ti.template(), scratch: ti.template()):
+    """How many particles the pending refresh searches for (scratch.active[0 .. n - 1])."""
+    return scratch.nbr_flags[at(state, 2 * state.x.shape[0] + SEARCHING)]

@@ -12,19 +12,25 @@ then the forces and the update: the same loops in the same order as the one kern
 (so the same bits), less the empty ones, for two more launches (~20 µs each). RK4 (four force
 evaluations a substep) and the GPU (where reading the flag waits for the device) keep the one
 kernel.
+
+A substep that refreshes some bodies' lists (refresh.py) leaves their search PENDING after the
+motion test; the host then launches ``refresh``: the marked particles search side by side on
+both threads (each into its own list), then one thread enters the other sides and makes the
+active list again. (On one thread the search cost the 24,000-body pile ~42 µs a refreshed body.)
 """
 import taichi as ti
 
-from . import pair_stages
+from . import pair_stages, refresh
 from .arrays import ModelArgs, ScratchArgs, StateArgs, WorldArgs
 from .state import DT
 
 
 class SplitSubstep:
-    """The kernels of a parallel substep in parts (``motion``, ``build``, ``place``, ``forces``)."""
+    """The kernels of a parallel substep in parts (``motion``, ``refresh`` or None, ``build``,
+    ``place``, ``forces``)."""
 
-    def __init__(self, motion, build, place, forces):
-        self.motion, self.build, self.place, self.forces = motion, build, place, forces
+    def __init__(self, motion, refresh, build, place, forces):
+        self.motion, self.refresh, self.build, self.place, self.forces = motion, refresh, build, place, forces
 
 
 def make(place_and_build, evaluate, refreshing: bool) -> SplitSubstep:
@@ -35,7 +41,15 @@ def make(place_and_build, evaluate, refreshing: bool) -> SplitSubstep:
 
     @ti.kernel
     def motion(model: M, state: S, scratch: C):
-        pair_stages.note_motion(model, state, scratch, True, refreshing)
+        pair_stages.note_motion(model, state, scratch, True, refreshing, True)
+
+    @ti.kernel
+    def refresh_lists(model: M, state: S, scratch: C):
+        for t in range(refresh.searching(state, scratch)):
+            refresh.search(model, state, scratch, t)
+        ti.loop_config(serialize=True)
+        for _ in range(1):
+            refresh.finish(model, state, scratch, True)
 
     @ti.kernel
     def build(model: M, state: S, scratch: C):
@@ -49,4 +63,4 @@ def make(place_and_build, evaluate, refreshing: bool) -> SplitSubstep:
     def forces(model: M, state: S, world: W, scratch: C):
         evaluate(model, state, world, scratch, True, world.values[DT], 0, 1.0)
 
-    return SplitSubstep(motion, build, place, forces)
+    return SplitSubstep(motion, refresh_lists if refreshing else None, build, place, forces)
