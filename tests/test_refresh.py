@@ -81,22 +81,24 @@ def _near_at_references(sim, body, radius):
     return near, doubtful
 
 
-def test_after_refreshes_each_list_holds_exactly_the_pairs_near_at_their_references(sim_cache, monkeypatch):
+@pytest.mark.parametrize("schedule", ["serial", "parallel"])  # parallel: the search side by side, apart
+def test_after_refreshes_each_list_holds_exactly_the_pairs_near_at_their_references(sim_cache, monkeypatch, schedule):
     from rigid.engine.arrays import download
 
     _thin_skin(monkeypatch)
     sim = sim_cache(**PILE)
-    sim.schedule = "serial"
+    sim.schedule = schedule
     model, B = sim.model, sim.num_bodies
     body = np.repeat(np.arange(B), model.body_count_np)  # slots run body after body
     radius = model.radius_np[body]
-    both_refreshed = 0
-    while sim.frame < 150 and both_refreshed < 4:  # until pairs of two refreshed bodies are near
-        sim.step_frame()
+    both_refreshed = one_refreshed = 0
+    while sim.frame < 150 and min(both_refreshed, one_refreshed) < 4:  # until near pairs of two refreshed
+        sim.step_frame()  # bodies (each found the other) and of one (it entered itself in the other's list)
         refreshed = download(sim._scratch_arrays["nbr_flags"])[4 + 3 * B:4 + 4 * B] != 0
         near, doubtful = _near_at_references(sim, body, radius)
         both_refreshed = sum(1 for i, j in near if refreshed[body[i]] and refreshed[body[j]])
-    assert both_refreshed >= 4, "no pairs of refreshed bodies to check"
+        one_refreshed = sum(1 for i, j in near if refreshed[body[i]] != refreshed[body[j]])
+    assert both_refreshed >= 4 and one_refreshed >= 4, "no pairs of refreshed bodies to check"
     listed = _listed_pairs(sim)
     assert all((j, i) in listed for i, j in listed)  # symmetric
     assert near - listed == set()
