@@ -35,6 +35,7 @@ def test_refreshing_the_lists_keeps_the_bits_of_full_rebuilds(sim_cache, monkeyp
 
     _thin_skin(monkeypatch)
     runs = []
+    monkeypatch.setattr(refresh, "BUILD_COST", 1e3)  # a refresh always cheaper than a full build
     for fraction in (0.0, 1.0):  # never refresh (grid_params[4], set with the skin), or always may
         monkeypatch.setattr(refresh, "REFRESH_FRACTION", fraction)
         sim = sim_cache(**PILE)

@@ -23,7 +23,7 @@ The host then doubles K and runs the chunk again (list_growth.py).
 Scratch arrays (ScratchArgs): ``nbr_count`` [N] i32, ``nbr_list`` [N·K] i32 (particle slots),
 ``build_x`` [N] vec3 (each particle's reference: its world position at the last build, or at
 its body's last refresh, refresh.py), ``active`` [N] i32 (the slots with a candidate, first
-nbr_flags[2] of them), ``nbr_flags`` [12 + 5B] i32 (one array, as the x64 backend takes at most
+nbr_flags[2] of them), ``nbr_flags`` [14 + 5B] i32 (one array, as the x64 backend takes at most
 64 argument elements):
   [0] 1: rebuild at the next placement (MAYBE, VIOLATED while the motion test decides:
       motion.py; refresh.PENDING while a refresh searches); [1] builds so far; [2] active particles;
@@ -31,7 +31,7 @@ nbr_flags[2] of them), ``nbr_flags`` [12 + 5B] i32 (one array, as the x64 backen
       [3 + B + b] .. [3 + B + b + 1] its run of the active list, on one thread (pair_once.py);
       [4 + 2B + b] its part of the pair stage (the parallel schedule on a CPU, each substep:
       part_cut.py);
-  [4 + 3B] .. [9 + 5B] the partial rebuilds' (refresh_state.py);
+  [4 + 3B] .. [11 + 5B] the partial rebuilds' (refresh_state.py);
   the last two: 1 when a body is asleep (each substep: pair_parts.py), 1 once a list
       overflowed (list_growth.py).
 ``grid_params`` [1], [2] = the skin, the relative motion allowed before a rebuild (the skin

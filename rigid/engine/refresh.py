@@ -23,22 +23,35 @@ partners' lists. Every list stays sorted by slot and symmetric, and holds every 
 so every sum runs over the same terms in the same order as after a full build: the bits do not
 change (tests/test_refresh.py, tests/test_skin.py).
 
-A full build is done instead when the refreshed bodies would exceed ``grid_params[4]`` of the
-particles (REFRESH_FRACTION; 0: never refresh), when a list has overflowed since (its grid walk
-would miss the refreshed particles: list_growth.py) or would overflow. Off a CPU the parallel
+A full build is done instead when a refresh would cost more than the substeps since the last
+full build did on average, the build included (its refreshed particles and ROUND_COST against
+the build's and the refreshes' since, counted in refreshed particles: BUILD_COST), once the
+refreshes have cost half a build: a refresh's cost grows with the bodies past half the skin,
+which grow as the build ages, so the lists are rebuilt in full once that is cheaper, as the
+Verlet list's rebuild every few substeps is (on the 24,000-body pile, refresh and builds 23.9 →
+20.7 ms a substep, a full build every 13 substeps instead of 21); in a quiet pile, where
+refreshes come seldom and the average runs low, the refreshes go on (without that condition
+pile.toml ran 11 % slower, 319 full builds in 300 frames instead of 218). Also when the refreshed bodies would exceed ``grid_params[4]`` of the
+particles (REFRESH_FRACTION, which sizes the hash; 0: never refresh), when a list has
+overflowed since (its grid walk would miss the refreshed particles: list_growth.py) or would
+overflow. Off a CPU the parallel
 schedule always rebuilds in full. Where the refresh keeps its state: refresh_state.py.
 """
 import taichi as ti
 
 from . import motion, neighbours, refresh_search
 from .matvec import body_offset, matvec
-from .refresh_state import (BUCKETS, FULL, MARKED, REFRESHED, SEARCHING, at, body_state, marked,
+from .refresh_state import (BUCKETS, COST, FULL, MARKED, SINCE, REFRESHED, SEARCHING, at, body_state, marked,
                             num_refreshed, refreshed_body, refreshed_particles, searching)
 
 # Of the particles, refreshed since the last full build at most. On the 24,000-body pile at 1 s a
 # refresh marks ~12 % of the bodies at a skin of a tenth of a diameter: 0.0625 never refreshed
 # there (170 ns a particle-substep), 0.125 ran 57-63 ns, 0.25 62-68, 0.5 80 (the first search).
 REFRESH_FRACTION = 0.25
+# A full build's cost (grid_params[5]) and a refresh's own (its passes over every body and
+# particle), in refreshed particles per particle of the scene: on the 24,000-body pile a build
+# took 168 ms, a refresh ~4 ms and 0.6 µs a refreshed particle (two threads).
+BUILD_COST, ROUND_COST = 0.28, 0.007
 PENDING = 4  # nbr_flags[0] from a refresh's preparation to its search's end (then 0, or 1: a full build)
 
 
@@ -50,6 +63,9 @@ def start_build(state: ti.template(), scratch: ti.template()):
     keep = 1 - scratch.nbr_flags[0]
     scratch.nbr_flags[at(state, 2 * B)] *= keep
     scratch.nbr_flags[at(state, 2 * B + 1)] *= keep
+    scratch.nbr_flags[at(state, 2 * B + SINCE)] *= keep
+    build = ti.cast(scratch.grid_params[5] * state.particle_x.shape[0], ti.i32)
+    scratch.nbr_flags[at(state, 2 * B + COST)] = keep * scratch.nbr_flags[at(state, 2 * B + COST)] + (1 - keep) * build
 
 
 @ti.func
@@ -67,6 +83,9 @@ def settle(model: ti.template(), state: ti.template(), scratch: ti.template(), p
     search then runs here, or with ``defer`` is left PENDING for split_substep.py's launch, which
     runs ``search`` on both threads and then ``finish``."""
     flag = scratch.nbr_flags[0]
+    if ti.static(enabled):
+        since = at(state, 2 * state.x.shape[0] + SINCE)
+        scratch.nbr_flags[since] = ti.min(scratch.nbr_flags[since] + 1, 1 << 30)
     if flag == motion.MAYBE:
         flag = 0
     elif flag == motion.VIOLATED:
@@ -95,14 +114,24 @@ def _prepare(model: ti.template(), state: ti.template(), scratch: ti.template())
     listed, particles = num_refreshed(state, scratch), refreshed_particles(state, scratch)
     H = refresh_search.buckets(scratch, N)
     ok = ti.cast(scratch.nbr_flags[scratch.nbr_flags.shape[0] - 1] == 0 and H > 0, ti.i32)  # no list overflowed
+    cost = 0
     if ok:
         for b in range(B):
             dx, turn = motion.body_shift(scratch, state, b)
             moved = dx.norm() + turn
             scratch.build_pose[b][13] = moved  # the motion test is done with slot 13
-            if moved > half and body_state(state, scratch, b) == 0:
-                particles += model.body_count[b]
-        ok = ti.cast(particles <= scratch.grid_params[4] * N, ti.i32)
+            if moved > half:
+                cost += model.body_count[b]
+                if body_state(state, scratch, b) == 0:
+                    particles += model.body_count[b]
+        cost += ti.cast(ROUND_COST * N, ti.i32)
+        cycle = scratch.nbr_flags[at(state, 2 * B + COST)]  # the build's and the refreshes' since
+        since = ti.max(scratch.nbr_flags[at(state, 2 * B + SINCE)], 1)
+        build = scratch.grid_params[5] * N
+        dear = ti.cast(cost, float) * since > cycle and cycle > 1.5 * build  # (a quiet pile's average runs low)
+        ok = ti.cast(particles <= scratch.grid_params[4] * N and not dear, ti.i32)
+        if ok:
+            scratch.nbr_flags[at(state, 2 * B + COST)] = ti.min(cycle + cost, 1 << 30)  # (no i32 overflow)
     if ok:
         if listed == 0:  # the first refresh since the full build
             refresh_search.empty_hash(scratch, H)

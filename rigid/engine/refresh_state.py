@@ -4,18 +4,20 @@ refreshed now, REFRESHED since the last full build); the refreshed bodies [4 + 4
 number [4 + 5B], their particles [5 + 5B], the refreshes so far [6 + 5B] (benchmarks); while a
 refresh searches (refresh.PENDING): its particles' number [7 + 5B] (the particles themselves in
 the active list, which the refresh makes again after), the hash's buckets [8 + 5B] and whether a
-list was full [9 + 5B]."""
+list was full [9 + 5B]; the cost of the last full build and of the refreshes since [10 + 5B] and
+the motion tests since [11 + 5B] (refresh.BUILD_COST)."""
 import taichi as ti
 
 from .arrays import download
 
 MARKED, REFRESHED = 1, 2  # a body's state bits
 SEARCHING, BUCKETS, FULL = 3, 4, 5  # past 2B: the searching particles' number, the hash's H, a list full
+COST, SINCE = 6, 7  # past 2B: the full build's and the refreshes' cost since it, the motion tests since
 
 
 def flags_size(num_bodies: int) -> int:
     """Length of nbr_flags for ``num_bodies`` bodies in contact (the last two: neighbours.py)."""
-    return 12 + 5 * num_bodies
+    return 14 + 5 * num_bodies
 
 
 def refreshes_so_far(sim) -> int:
@@ -27,7 +29,7 @@ def refreshes_so_far(sim) -> int:
 def at(state: ti.template(), what):
     """Index in nbr_flags of the refresh's slot ``what``: b (a body's state), B + k (the k-th
     refreshed body), 2B (their number), 2B + 1 (their particles), 2B + 2 (refreshes so far),
-    then SEARCHING, BUCKETS, FULL past 2B."""
+    then SEARCHING, BUCKETS, FULL, COST, SINCE past 2B."""
     return 4 + 3 * state.x.shape[0] + what
 
 
