@@ -89,9 +89,11 @@ def _bench(doc, out: Path, bench: dict | None) -> None:
                     f"{p.get('contact_refreshes_per_substep', 0.0):.2f}"]
                    for p in piles])
         doc.para("A partial rebuild (rigid/engine/refresh.py) makes again only the lists of the bodies that outran "
-                 "half the skin; the whole grid and every list are rebuilt once those pass a quarter of the "
-                 "particles. Without it the 24,000-body pile, whose top layer still lands at 1 s, rebuilt all "
-                 "1,008,000 particles' lists every substep: 162-172 ns a particle-substep.")
+                 "half the skin, their particles searching side by side on both threads; the whole grid and "
+                 "every list are rebuilt once a refresh would cost more than the substeps since the last full "
+                 "build did on average, or the refreshed bodies pass a quarter of the particles. Without it "
+                 "the 24,000-body pile, whose top layer still lands at 1 s, rebuilt all 1,008,000 particles' "
+                 "lists every substep: 162-172 ns a particle-substep.")
 
 
 def _rise(rise: float) -> str:
