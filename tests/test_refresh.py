@@ -112,3 +112,26 @@ def test_after_refreshes_each_list_holds_exactly_the_pairs_near_at_their_referen
     active = download(sim._scratch_arrays["active"])[:int(download(sim._scratch_arrays["nbr_flags"])[2])]
     count = download(sim._scratch_arrays["nbr_count"])
     assert np.array_equal(active, np.flatnonzero(count > 0))  # the pair stage visits exactly these
+
+
+def test_a_full_build_replaces_refreshes_once_they_cost_more_and_no_bit_changes(sim_cache, monkeypatch):
+    """refresh.BUILD_COST prices a full build in refreshed particles: priced low, the lists are rebuilt
+    in full where a refresh would cost more than the substeps since did on average; the run keeps
+    its bits either way."""
+    from rigid.engine import refresh
+
+    _thin_skin(monkeypatch)
+    monkeypatch.setattr(refresh, "REFRESH_FRACTION", 1.0)  # the refreshed bodies' share never asks for one
+    runs = []
+    for cost in (1e3, 0.02):  # a build dearer than any refresh, or about one body's worth here
+        monkeypatch.setattr(refresh, "BUILD_COST", cost)
+        sim = sim_cache(**PILE)
+        sim.schedule = "serial"
+        for _ in range(40):
+            sim.step_frame()
+        runs.append(sim)
+    (dear_builds, dear_refreshes, _), (cheap_builds, cheap_refreshes, _) = _counts(runs[0]), _counts(runs[1])
+    assert cheap_builds > 10 * dear_builds and cheap_refreshes < 0.6 * dear_refreshes  # 233 > 7, 235 < 553
+    a, b = runs[0].snapshot(), runs[1].snapshot()
+    for key in ("x", "q", "P", "L"):
+        assert np.array_equal(a[key], b[key]), (key, np.abs(a[key] - b[key]).max())
