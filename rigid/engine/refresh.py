@@ -41,8 +41,9 @@ import taichi as ti
 
 from . import motion, neighbours, refresh_search
 from .matvec import body_offset, matvec
-from .refresh_state import (BUCKETS, COST, FULL, MARKED, SINCE, REFRESHED, SEARCHING, at, body_state, marked,
-                            num_refreshed, refreshed_body, refreshed_particles, searching)
+from .refresh_state import (BUCKETS, COST, COUNT, FULL, MARKED, PARTICLES, REFRESHED, REFRESHES, SEARCHING,
+                            SINCE, at, body_state, marked, num_refreshed, refreshed_body, refreshed_particles,
+                            scalar, searching)
 
 # Of the particles, refreshed since the last full build at most. On the 24,000-body pile at 1 s a
 # refresh marks ~12 % of the bodies at a skin of a tenth of a diameter: 0.0625 never refreshed
@@ -59,13 +60,12 @@ PENDING = 4  # nbr_flags[0] from a refresh's preparation to its search's end (th
 def start_build(state: ti.template(), scratch: ti.template()):
     """neighbours.start_build, and no body refreshed once a full build follows (top-level statements)."""
     neighbours.start_build(scratch)
-    B = state.x.shape[0]
     keep = 1 - scratch.nbr_flags[0]
-    scratch.nbr_flags[at(state, 2 * B)] *= keep
-    scratch.nbr_flags[at(state, 2 * B + 1)] *= keep
-    scratch.nbr_flags[at(state, 2 * B + SINCE)] *= keep
+    scratch.nbr_flags[scalar(state, COUNT)] *= keep
+    scratch.nbr_flags[scalar(state, PARTICLES)] *= keep
+    scratch.nbr_flags[scalar(state, SINCE)] *= keep
     build = ti.cast(scratch.grid_params[5] * state.particle_x.shape[0], ti.i32)
-    scratch.nbr_flags[at(state, 2 * B + COST)] = keep * scratch.nbr_flags[at(state, 2 * B + COST)] + (1 - keep) * build
+    scratch.nbr_flags[scalar(state, COST)] = keep * scratch.nbr_flags[scalar(state, COST)] + (1 - keep) * build
 
 
 @ti.func
@@ -84,7 +84,7 @@ def settle(model: ti.template(), state: ti.template(), scratch: ti.template(), p
     runs ``search`` on both threads and then ``finish``."""
     flag = scratch.nbr_flags[0]
     if ti.static(enabled):
-        since = at(state, 2 * state.x.shape[0] + SINCE)
+        since = scalar(state, SINCE)
         scratch.nbr_flags[since] = ti.min(scratch.nbr_flags[since] + 1, 1 << 30)
     if flag == motion.MAYBE:
         flag = 0
@@ -125,13 +125,13 @@ def _prepare(model: ti.template(), state: ti.template(), scratch: ti.template())
                 if body_state(state, scratch, b) == 0:
                     particles += model.body_count[b]
         cost += ti.cast(ROUND_COST * N, ti.i32)
-        cycle = scratch.nbr_flags[at(state, 2 * B + COST)]  # the build's and the refreshes' since
-        since = ti.max(scratch.nbr_flags[at(state, 2 * B + SINCE)], 1)
+        cycle = scratch.nbr_flags[scalar(state, COST)]  # the build's and the refreshes' since
+        since = ti.max(scratch.nbr_flags[scalar(state, SINCE)], 1)
         build = scratch.grid_params[5] * N
         dear = ti.cast(cost, float) * since > cycle and cycle > 1.5 * build  # (a quiet pile's average runs low)
         ok = ti.cast(particles <= scratch.grid_params[4] * N and not dear, ti.i32)
         if ok:
-            scratch.nbr_flags[at(state, 2 * B + COST)] = ti.min(cycle + cost, 1 << 30)  # (no i32 overflow)
+            scratch.nbr_flags[scalar(state, COST)] = ti.min(cycle + cost, 1 << 30)  # (no i32 overflow)
     if ok:
         if listed == 0:  # the first refresh since the full build
             refresh_search.empty_hash(scratch, H)
@@ -141,10 +141,10 @@ def _prepare(model: ti.template(), state: ti.template(), scratch: ti.template())
                     scratch.nbr_flags[at(state, B + listed)] = b
                     listed += 1
                 scratch.nbr_flags[at(state, b)] |= MARKED
-        scratch.nbr_flags[at(state, 2 * B)] = listed
-        scratch.nbr_flags[at(state, 2 * B + 1)] = particles
-        scratch.nbr_flags[at(state, 2 * B + BUCKETS)] = H
-        scratch.nbr_flags[at(state, 2 * B + FULL)] = 0
+        scratch.nbr_flags[scalar(state, COUNT)] = listed
+        scratch.nbr_flags[scalar(state, PARTICLES)] = particles
+        scratch.nbr_flags[scalar(state, BUCKETS)] = H
+        scratch.nbr_flags[scalar(state, FULL)] = 0
         _unlist_and_rehash(model, state, scratch, H)
     return ok
 
@@ -192,18 +192,17 @@ def _unlist_and_rehash(model: ti.template(), state: ti.template(), scratch: ti.t
                 scratch.active[n] = i
                 n += 1
             refresh_search.hash_body(model, scratch, a, H)
-    scratch.nbr_flags[at(state, 2 * state.x.shape[0] + SEARCHING)] = n
+    scratch.nbr_flags[scalar(state, SEARCHING)] = n
 
 
 @ti.func
 def search(model: ti.template(), state: ti.template(), scratch: ti.template(), t):
     """3. The t-th marked particle's partners found again, into its own list only (so the marked
     particles may search side by side: split_substep.py)."""
-    B = state.x.shape[0]
     stride = neighbours.list_stride(scratch, state)
-    H = scratch.nbr_flags[at(state, 2 * B + BUCKETS)]
+    H = scratch.nbr_flags[scalar(state, BUCKETS)]
     if not refresh_search.find_partners(model, state, scratch, scratch.active[t], stride, H):
-        scratch.nbr_flags[at(state, 2 * B + FULL)] = 1
+        scratch.nbr_flags[scalar(state, FULL)] = 1
 
 
 @ti.func
@@ -212,9 +211,9 @@ def finish(model: ti.template(), state: ti.template(), scratch: ti.template(), p
     not marked (a marked partner found it itself: the distance test is symmetric), and the
     active list made again; else (a list full) a full build."""
     if scratch.nbr_flags[0] == PENDING:
-        B, N = state.x.shape[0], state.particle_x.shape[0]
+        N = state.particle_x.shape[0]
         stride = neighbours.list_stride(scratch, state)
-        ok = 1 - scratch.nbr_flags[at(state, 2 * B + FULL)]
+        ok = 1 - scratch.nbr_flags[scalar(state, FULL)]
         n = searching(state, scratch)
         for t in range(n * ok):
             i = scratch.active[t]
@@ -230,7 +229,7 @@ def finish(model: ti.template(), state: ti.template(), scratch: ti.template(), p
                     neighbours.no_pair_force(scratch, scratch.active[t])
             for k in range(num_refreshed(state, scratch)):
                 scratch.nbr_flags[at(state, refreshed_body(state, scratch, k))] = REFRESHED
-            scratch.nbr_flags[at(state, 2 * B + 2)] += 1
+            scratch.nbr_flags[scalar(state, REFRESHES)] += 1
             m = 0  # the active list again, ascending (on one thread: a parallel list_active's two empty
             for i in range(N):  # loops would cost every substep ~60 µs; this, 1-2 ms a refresh at 1M)
                 if scratch.nbr_count[i] > 0:

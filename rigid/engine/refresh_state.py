@@ -11,26 +11,40 @@ import taichi as ti
 from .arrays import download
 
 MARKED, REFRESHED = 1, 2  # a body's state bits
-SEARCHING, BUCKETS, FULL = 3, 4, 5  # past 2B: the searching particles' number, the hash's H, a list full
-COST, SINCE = 6, 7  # past 2B: the full build's and the refreshes' cost since it, the motion tests since
+# The refresh's scalars (``scalar``), after the bodies' states and the refreshed bodies: the
+# refreshed bodies' number and particles, the refreshes so far, the searching particles' number,
+# the hash's H, a list full, the full build's and the refreshes' cost since it, the motion tests since.
+COUNT, PARTICLES, REFRESHES, SEARCHING, BUCKETS, FULL, COST, SINCE = range(8)
+SCALARS = 8
+
+
+def _index(num_bodies: int, what: int) -> int:
+    """Index in nbr_flags of the refresh's slot ``what`` on the host (``at`` in a kernel)."""
+    return 4 + 3 * num_bodies + what
 
 
 def flags_size(num_bodies: int) -> int:
     """Length of nbr_flags for ``num_bodies`` bodies in contact (the last two: neighbours.py)."""
-    return 14 + 5 * num_bodies
+    return _index(num_bodies, 2 * num_bodies + SCALARS) + 2
 
 
 def refreshes_so_far(sim) -> int:
     """How many substeps refreshed some lists in part (benchmarks: refreshes per substep)."""
-    return int(download(sim._scratch_arrays["nbr_flags"])[6 + 5 * sim.num_bodies]) if sim.many else 0
+    B = sim.num_bodies
+    return int(download(sim._scratch_arrays["nbr_flags"])[_index(B, 2 * B + REFRESHES)]) if sim.many else 0
 
 
 @ti.func
 def at(state: ti.template(), what):
     """Index in nbr_flags of the refresh's slot ``what``: b (a body's state), B + k (the k-th
-    refreshed body), 2B (their number), 2B + 1 (their particles), 2B + 2 (refreshes so far),
-    then SEARCHING, BUCKETS, FULL, COST, SINCE past 2B."""
+    refreshed body). (_index on the host: a kernel calls no plain Python function.)"""
     return 4 + 3 * state.x.shape[0] + what
+
+
+@ti.func
+def scalar(state: ti.template(), what):
+    """Index in nbr_flags of the refresh's scalar ``what`` (COUNT ... SINCE)."""
+    return at(state, 2 * state.x.shape[0] + what)
 
 
 @ti.func
@@ -51,15 +65,15 @@ def refreshed_body(state: ti.template(), scratch: ti.template(), k):
 
 @ti.func
 def num_refreshed(state: ti.template(), scratch: ti.template()):
-    return scratch.nbr_flags[at(state, 2 * state.x.shape[0])]
+    return scratch.nbr_flags[scalar(state, COUNT)]
 
 
 @ti.func
 def refreshed_particles(state: ti.template(), scratch: ti.template()):
-    return scratch.nbr_flags[at(state, 2 * state.x.shape[0] + 1)]
+    return scratch.nbr_flags[scalar(state, PARTICLES)]
 
 
 @ti.func
 def searching(state: ti.template(), scratch: ti.template()):
     """How many particles the pending refresh searches for (scratch.active[0 .. n - 1])."""
-    return scratch.nbr_flags[at(state, 2 * state.x.shape[0] + SEARCHING)]
+    return scratch.nbr_flags[scalar(state, SEARCHING)]
