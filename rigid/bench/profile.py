@@ -129,7 +129,8 @@ def profile(sim, settle_frames: int = 60, reps: int = 100) -> dict:
     del per_substep["grid"]  # part of the rebuild
     return dict(bodies=sim.num_bodies, particles=sim.num_particles, schedule=sim.schedule,
                 settle_frames=settle_frames, whole_us=round(statistics.median(whole) * 1e6, 1),
-                rebuilds_per_substep=round(rate, 4), refreshes_per_substep=round(refresh_rate, 4), neighbours_mean=round(float(counts.mean()), 2),
+                rebuilds_per_substep=round(rate, 4), refreshes_per_substep=round(refresh_rate, 4),
+                neighbours_mean=round(float(counts.mean()), 2),
                 neighbours_max=int(counts.max()), active_particles=active, stage_us={n: round(v, 1) for n, v in stage.items()},
                 per_substep_us={n: round(v, 1) for n, v in per_substep.items()},
                 sum_us=round(sum(per_substep.values()), 1))

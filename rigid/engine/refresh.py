@@ -29,12 +29,12 @@ the build's and the refreshes' since, counted in refreshed particles: BUILD_COST
 refreshes have cost half a build: a refresh's cost grows with the bodies past half the skin,
 which grow as the build ages, so the lists are rebuilt in full once that is cheaper, as the
 Verlet list's rebuild every few substeps is (on the 24,000-body pile, refresh and builds 23.9 →
-20.7 ms a substep, a full build every 13 substeps instead of 21); in a quiet pile, where
+21.8 ms a substep, a full build every 13 substeps instead of 21); in a quiet pile, where
 refreshes come seldom and the average runs low, the refreshes go on (without that condition
-pile.toml ran 11 % slower, 319 full builds in 300 frames instead of 218). Also when the refreshed bodies would exceed ``grid_params[4]`` of the
-particles (REFRESH_FRACTION, which sizes the hash; 0: never refresh), when a list has
-overflowed since (its grid walk would miss the refreshed particles: list_growth.py) or would
-overflow. Off a CPU the parallel
+pile.toml ran 11 % slower, 319 full builds in 300 frames instead of 218; with it 236). Also
+when the refreshed bodies would exceed ``grid_params[4]`` of the particles (REFRESH_FRACTION,
+which sizes the hash; 0: never refresh), when a list has overflowed since (its grid walk would
+miss the refreshed particles: list_growth.py) or would overflow. Off a CPU the parallel
 schedule always rebuilds in full. Where the refresh keeps its state: refresh_state.py.
 """
 import taichi as ti
