@@ -56,6 +56,8 @@ def _bench(doc, out: Path, bench: dict | None) -> None:
                      f"{contact} ({thousand['particles']:,} particles, {thousand['substeps_per_frame']} substeps "
                      "a frame, engine only, no drawing).")
     doc.bullets(items)
+    _peers(doc, bench)
+    _profile(doc, bench)
     rows = [[f"{r['bodies']}", f"{r['particles']:,}", f"{r['engine_us_per_substep']:,.0f}",
              f"{r['mujoco_us_per_step']:,.0f}", f"{r['ratio_engine_over_mujoco']:.2f}"]
             for r in (bench.get(k) for k in ("pile_125", "pile_27")) if r and "mujoco_us_per_step" in r]
@@ -94,6 +96,50 @@ def _bench(doc, out: Path, bench: dict | None) -> None:
                  "build did on average, or the refreshed bodies pass a quarter of the particles. Without it "
                  "the 24,000-body pile, whose top layer still lands at 1 s, rebuilt all 1,008,000 particles' "
                  "lists every substep: 162-172 ns a particle-substep.")
+
+
+def _peers(doc, bench: dict) -> None:
+    """The peers' table (rigid/bench/peers.py) and what sleeping saves (rigid/bench/sleeping.py)."""
+    peers, versions = bench.get("peers") or [], bench.get("peer_versions") or {}
+    if peers:
+        engines = list(peers[0]["wall_per_sim_s"])
+        named = ", ".join(f"{name} {v}" for name, v in (("PyBullet", versions.get("pybullet")),
+                                                         ("MuJoCo", versions.get("mujoco"))) if v)
+        doc.para(f"The same pile of icospheres in PyBullet and MuJoCo ({named or 'not installed'}; each "
+                 "body as the same mesh, its convex hull, or as a sphere primitive of the mesh's radius), 3 s simulated, each engine at "
+                 "its own default step (this engine 1 ms symplectic Euler, PyBullet 1/240 s, MuJoCo 2 ms "
+                 "with its CG solver), in wall seconds per simulated second (below 1: faster than real "
+                 "time), medians of interleaved repeats:")
+        doc.table(["bodies (particles)"] + engines,
+                  [[f"{p['bodies']:,} ({p['particles']:,})"] + [_seconds(p["wall_per_sim_s"].get(e)) for e in engines]
+                   for p in peers])
+    sleeping = bench.get("sleeping")
+    if sleeping and sleeping.get("all_asleep"):
+        doc.para(f"Bodies at rest sleep: {sleeping['bodies']} spheres cost {sleeping['falling_us_per_substep']:.0f} µs "
+                 f"a substep while they fall and {sleeping['settled_us_per_substep']:.1f} once all are asleep "
+                 f"(from {sleeping['all_asleep_at_s']:.1f} s), {100 * sleeping['settled_over_falling']:.0f} % of "
+                 f"falling; the same settled pile with sleeping off: "
+                 f"{sleeping['settled_sleep_off_us_per_substep']:.0f} µs.")
+
+
+def _profile(doc, bench: dict) -> None:
+    """Where a substep's time goes (rigid/bench/profile.py): each stage alone on one thread."""
+    profile = bench.get("profile") or {}
+    if not profile:
+        return
+    doc.para("Where a substep's time goes in contact (at 1 s), each stage timed alone on one thread, in µs a "
+             "substep; the full rebuild of the grid and lists counted at its rate (its own time in brackets); "
+             "the whole substep as the engine runs it, partial rebuilds included:")
+    doc.table(["scene", "particles", "whole", "place", "full rebuild", "pairs", "blocks", "update"],
+              [[name, f"{p['particles']:,}", f"{p['whole_us']:,.0f}", f"{p['per_substep_us']['place']:.0f}",
+                f"{p['per_substep_us']['rebuild']:.0f} ({p['stage_us']['rebuild']:,.0f} every "
+                f"{1 / max(p['rebuilds_per_substep'], 1e-9):.0f} substeps)",
+                f"{p['per_substep_us']['pairs']:.0f}", f"{p['per_substep_us']['blocks']:.0f}",
+                f"{p['per_substep_us']['update']:.0f}"] for name, p in profile.items()])
+
+
+def _seconds(value) -> str:
+    return "–" if value is None else f"{value:.3f}" if value < 1 else f"{value:.2f}"
 
 
 def _rise(rise: float) -> str:
