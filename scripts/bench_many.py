@@ -1,5 +1,5 @@
-"""Many-body speed (PyBullet and MuJoCo side by side, sleeping, stage profile, MuJoCo pile, cost against particle
-count, 1,000 bodies) -> report/bench_many.* (logic: rigid.bench.many)."""
+"""Many-body speed (PyBullet and MuJoCo side by side, sleeping, a small scene's fixed cost, stage profile,
+MuJoCo pile, cost against particle count, 1,000 bodies) -> report/bench_many.* (logic: rigid.bench.many)."""
 import argparse
 import sys
 from pathlib import Path

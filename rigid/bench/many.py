@@ -235,33 +235,21 @@ def figure(points: list[dict], path: Path) -> None:
     plt.close(fig)
 
 
-SECTIONS = ("peers", "sleeping", "profile", "piles", "scaling", "pile_scaling", "thousand")
-
-
-def profiles(units, quick: bool) -> dict:
-    """The stage profile (rigid.bench.profile) of the peers' 125 and 1,000 sphere piles at 1 s."""
-    from rigid.engine.simulator import Simulator
-
-    from .peers import scene
-    from .profile import profile
-    out = {}
-    for count in ((27,) if quick else (125, 1000)):
-        config, bodies = scene(count)
-        sim = Simulator(config.replace(sleep=False), units, bodies=bodies, schedule="serial")
-        out[f"{count} spheres"] = profile(sim, settle_frames=6 if quick else 60, reps=5 if quick else 100)
-        print(f"  {count} spheres: {out[f'{count} spheres']['per_substep_us']}", flush=True)
-    return out
+SECTIONS = ("peers", "sleeping", "fixed", "profile", "piles", "scaling", "pile_scaling", "thousand")
 
 
 def run(out: Path, quick: bool = False, sections=SECTIONS) -> dict:
     """Run ``sections`` (default all) and write bench_many.json/.md; with fewer sections, the
     others are kept from the JSON already there."""
-    from . import peers, sleeping
+    from . import fixed_cost, peers, profile, sleeping
 
     (out := Path(out)).mkdir(parents=True, exist_ok=True)
     path = out / "bench_many.json"
-    report = json.loads(path.read_text()) if set(sections) != set(SECTIONS) and path.exists() else {}
-    report.update(quick=quick, machine=machine())
+    partial = set(sections) != set(SECTIONS) and path.exists()
+    report = json.loads(path.read_text()) if partial else {}
+    report["quick"] = quick
+    if not partial:  # a part run alone keeps the whole run's machine and records its own (below)
+        report["machine"] = machine()
     units = _setup()
     if "peers" in sections:
         print("side by side with PyBullet and MuJoCo", flush=True)
@@ -271,9 +259,12 @@ def run(out: Path, quick: bool = False, sections=SECTIONS) -> dict:
     if "sleeping" in sections and not quick:
         print("sleeping", flush=True)
         report["sleeping"] = sleeping.settled_cost(units)
+    if "fixed" in sections:
+        print("a small scene's fixed cost", flush=True)
+        report["fixed"] = fixed_cost.fixed_cost(units, quick)
     if "profile" in sections and not quick:  # (its kernels would compile for a smoke run)
         print("profile", flush=True)
-        report["profile"] = profiles(units, quick)
+        report["profile"] = profile.piles(units, quick)
     if "piles" in sections:
         for count in ((27,) if quick else (125, 27)):
             print(f"pile of {count} spheres", flush=True)
@@ -289,7 +280,12 @@ def run(out: Path, quick: bool = False, sections=SECTIONS) -> dict:
     if "thousand" in sections:
         print("1,000 bodies", flush=True)
         report["thousand"] = thousand(units, quick)
-    report["machine"]["loadavg_1_5_15_at_end"] = [round(x, 2) for x in os.getloadavg()]
+    if partial:
+        for name in sections:
+            if isinstance(report.get(name), dict):
+                report[name]["machine"] = machine()
+    else:
+        report["machine"]["loadavg_1_5_15_at_end"] = [round(x, 2) for x in os.getloadavg()]
     path.write_text(json.dumps(report, indent=2) + "\n")
     (out / "bench_many.md").write_text(markdown(report))  # many_markdown.py
     return report

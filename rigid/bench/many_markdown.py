@@ -2,7 +2,7 @@
 
 
 def markdown(r: dict) -> str:
-    from . import peers, pile_scaling, sleeping
+    from . import fixed_cost, peers, pile_scaling, sleeping
 
     m = r["machine"]
     lines = ["# Many-body benchmark", "",
@@ -13,6 +13,8 @@ def markdown(r: dict) -> str:
         lines += peers.markdown(r["peers"], r.get("peer_versions", {}))
     if r.get("sleeping"):
         lines += sleeping.markdown(r["sleeping"])
+    if r.get("fixed"):
+        lines += fixed_cost.markdown(r["fixed"])
     if r.get("profile"):
         lines += ["## Where a substep's time goes (each stage alone, one thread, µs per substep)", "",
                   "At 1 s (falling, in contact); the full rebuild (grid and neighbour lists) counted at its measured "

@@ -134,3 +134,17 @@ def profile(sim, settle_frames: int = 60, reps: int = 100) -> dict:
                 neighbours_max=int(counts.max()), active_particles=active, stage_us={n: round(v, 1) for n, v in stage.items()},
                 per_substep_us={n: round(v, 1) for n, v in per_substep.items()},
                 sum_us=round(sum(per_substep.values()), 1))
+
+
+def piles(units, quick: bool) -> dict:
+    """The stage profile (``profile``) of the peers' 125 and 1,000 sphere piles at 1 s (27 for a smoke run)."""
+    from rigid.engine.simulator import Simulator
+
+    from .peers import scene
+    out = {}
+    for count in ((27,) if quick else (125, 1000)):
+        config, bodies = scene(count)
+        sim = Simulator(config.replace(sleep=False), units, bodies=bodies, schedule="serial")
+        out[f"{count} spheres"] = profile(sim, settle_frames=6 if quick else 60, reps=5 if quick else 100)
+        print(f"  {count} spheres: {out[f'{count} spheres']['per_substep_us']}", flush=True)
+    return out

@@ -55,6 +55,13 @@ def _bench(doc, out: Path, bench: dict | None) -> None:
         items.append(f"1,000 bodies: **{thousand['fps']:.1f}** frames per second while they fall"
                      f"{contact} ({thousand['particles']:,} particles, {thousand['substeps_per_frame']} substeps "
                      "a frame, engine only, no drawing).")
+    fixed = bench.get("fixed")
+    if fixed:
+        first, last = fixed["rows"][0], fixed["rows"][-1]
+        items.append(f"small piles: {first['us_per_substep']:.1f} µs a substep for {first['bodies']} bodies "
+                     f"({first['particles']} particles), {last['us_per_substep']:.1f} for {last['bodies']} "
+                     f"({last['particles']:,}); a line through them: {fixed['fixed_us_per_substep']:.2f} µs "
+                     f"fixed + {fixed['ns_per_particle']:.1f} ns a particle.")
     doc.bullets(items)
     _peers(doc, bench)
     _profile(doc, bench)
