@@ -249,12 +249,10 @@ class EngineKernels:
             place_all(model, state, scratch, True, 1)
             for k in range(model.block_start.shape[0]):  # the blocks in parallel, summed in order below
                 scratch.block_energy[k] = stages.block_contact_energy(model, state, world, scratch, k, pairs)
+            stages.sum_energy_chunks(model, scratch)  # (off a CPU)
             ti.loop_config(serialize=True)
             for _ in range(1):
-                energy = 0.0
-                for k in range(model.block_start.shape[0]):
-                    energy += scratch.block_energy[k]
-                write_row(state, rows, slot, energy)
+                write_row(state, rows, slot, stages.block_energy_total(model, scratch))
 
         @ti.kernel
         def init_bodies(model: M, state: S, x0: ti.types.ndarray(), q0: ti.types.ndarray(),

@@ -12,6 +12,7 @@ each body's e_b and reach ρ'_b sit in slots 13 and 14 of its build_pose.
 """
 import taichi as ti
 
+REDUCED = 6  # grid_params[6:15]: note_motion_spread's reductions (least Δx, largest Δx, first, second, ties)
 ROTATION_DEFECT = 1e-3  # _turn_norm: the orthogonality defect up to which R is taken for a rotation
 MAYBE = 2  # nbr_flags[0] while note_motion's rebuild is undecided (close_pairs_moved decides)
 VIOLATED = 3  # close_pairs_moved found a pair that moved too far (refresh.settle: a refresh or a full build)
@@ -96,7 +97,62 @@ def note_motion(scratch: ti.template(), state: ti.template()):
     elif first + second > scratch.grid_params[2] and scratch.nbr_flags[0] == 0:
         scratch.nbr_flags[0] = MAYBE  # close_pairs_moved decides, with each body's reach:
         for b in range(B):  # ‖R‖₂ <= 1 + ‖RᵀR − I‖_F (only then: most substeps end above)
-            scratch.build_pose[b][14] = scratch.build_pose[b][12] * (1.0 + _defect(state.R[b])) * (1.0 + 1e-5)
+            scratch.build_pose[b][14] = reach_now(scratch, state, b)
+
+
+@ti.func
+def note_motion_spread(scratch: ti.template(), state: ti.template()):
+    """note_motion as top-level loops of a parallel kernel, for a GPU: there one thread's two
+    passes over 10,000 bodies would wait on every load (milliseconds a substep by estimate; no
+    GPU has measured it). The same decisions and e_b to round-off: the least and largest Δx,
+    the largest e and the count of its ties are exact whatever the order (atomic min, max and
+    add in grid_params[REDUCED:]), and the second largest is the largest below the first, or the
+    first itself if it is tied (tests/test_gpu_pipeline.py)."""
+    ti.loop_config(serialize=True)
+    for _ in range(1):
+        for k in ti.static(range(3)):
+            scratch.grid_params[REDUCED + k] = 1e30
+            scratch.grid_params[REDUCED + 3 + k] = -1e30
+        for k in ti.static(range(6, 9)):
+            scratch.grid_params[REDUCED + k] = 0.0
+    for b in range(state.x.shape[0]):
+        dx, _turn = body_shift(scratch, state, b)
+        for k in ti.static(range(3)):
+            ti.atomic_min(scratch.grid_params[REDUCED + k], dx[k])
+            ti.atomic_max(scratch.grid_params[REDUCED + 3 + k], dx[k])
+    for b in range(state.x.shape[0]):
+        c = ti.Vector([0.5 * (scratch.grid_params[REDUCED + k] + scratch.grid_params[REDUCED + 3 + k])
+                       for k in ti.static(range(3))])
+        dx, turn = body_shift(scratch, state, b)
+        e = (dx - c).norm() + turn
+        if not (e <= 1e30):
+            e = 1e30
+        scratch.build_pose[b][13] = e
+        ti.atomic_max(scratch.grid_params[REDUCED + 6], e)
+    for b in range(state.x.shape[0]):
+        e = scratch.build_pose[b][13]
+        if e == scratch.grid_params[REDUCED + 6]:
+            ti.atomic_add(scratch.grid_params[REDUCED + 8], 1.0)
+        else:
+            ti.atomic_max(scratch.grid_params[REDUCED + 7], e)
+    ti.loop_config(serialize=True)
+    for _ in range(1):
+        first, second = scratch.grid_params[REDUCED + 6], scratch.grid_params[REDUCED + 7]
+        if scratch.grid_params[REDUCED + 8] >= 2.0:
+            second = first
+        if first >= 1e30:
+            scratch.nbr_flags[0] = 1
+        elif first + second > scratch.grid_params[2] and scratch.nbr_flags[0] == 0:
+            scratch.nbr_flags[0] = MAYBE
+    for b in range(state.x.shape[0] * motion_undecided(scratch)):
+        scratch.build_pose[b][14] = reach_now(scratch, state, b)
+
+
+@ti.func
+def reach_now(scratch: ti.template(), state: ti.template(), b):
+    """ρ'_b >= the distance of body b's particles from its centre now: ρ_b (build_pose slot 12)
+    stretched by R's orthogonality defect (‖R‖₂ <= 1 + ‖RᵀR − I‖_F) and a margin for round-off."""
+    return scratch.build_pose[b][12] * (1.0 + _defect(state.R[b])) * (1.0 + 1e-5)
 
 
 @ti.func

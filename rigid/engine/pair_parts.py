@@ -35,7 +35,7 @@ at once (``prepare``).
 """
 import taichi as ti
 
-from . import grid, neighbours, pair_once, pair_stages, part_cut, sleep, stages
+from . import grid, neighbours, pair_once, pair_stages, part_cut, schedule, sleep, stages
 from .pair_once import give, sweep_particle, touching
 from .pair_stages import pair_between
 
@@ -47,10 +47,9 @@ PARTS_PER_THREAD = 1  # one part a thread: each more cut adds the pairs across i
 def parts_here() -> int:
     """How many parts the sweep is cut into in this process (after ti.init): PARTS_PER_THREAD for
     each of Taichi's CPU threads; 0 off a CPU (a GPU runs pair_stages.visit_all)."""
-    cfg = ti.lang.impl.current_cfg()
-    if cfg.arch not in (ti.x64, ti.arm64):
+    if not schedule.on_cpu():
         return 0
-    return max(1, cfg.cpu_max_num_threads) * PARTS_PER_THREAD
+    return max(1, ti.lang.impl.current_cfg().cpu_max_num_threads) * PARTS_PER_THREAD
 
 
 @ti.func

@@ -6,7 +6,7 @@ pair evaluated by ``pair_between``), and ``pair_forces``, which the frame's cont
 also sums. On one thread pair_once.py's sweep replaces 3a."""
 import taichi as ti
 
-from . import grid, motion, neighbours, refresh, sleep, stages
+from . import grid, motion, neighbours, refresh, schedule, sleep, stages
 from .contact import pair_contact
 
 
@@ -19,9 +19,12 @@ def note_motion(model: ti.template(), state: ti.template(), scratch: ti.template
     moved too far, the bodies that moved refreshed (with ``refresh_lists``: refresh.py) or a
     full build asked for (``defer_search``: the refresh's search left to split_substep.py)."""
     if ti.static(parallel):
-        ti.loop_config(serialize=True)
-        for _ in range(1):
-            motion.note_motion(scratch, state)
+        if ti.static(schedule.on_cpu()):
+            ti.loop_config(serialize=True)
+            for _ in range(1):
+                motion.note_motion(scratch, state)
+        else:  # a GPU's one thread would take milliseconds over its bodies
+            motion.note_motion_spread(scratch, state)
         for a in range(state.x.shape[0] * motion.motion_undecided(scratch)):
             motion.close_pairs_moved(model, state, scratch, a)
         ti.loop_config(serialize=True)

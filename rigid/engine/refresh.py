@@ -39,7 +39,7 @@ schedule always rebuilds in full. Where the refresh keeps its state: refresh_sta
 """
 import taichi as ti
 
-from . import motion, neighbours, refresh_search
+from . import motion, neighbours, refresh_search, schedule
 from .matvec import body_offset, matvec
 from .refresh_state import (BUCKETS, COST, COUNT, FULL, MARKED, PARTICLES, REFRESHED, REFRESHES, SEARCHING,
                             SINCE, at, body_state, marked, num_refreshed, refreshed_body, refreshed_particles,
@@ -90,7 +90,7 @@ def settle(model: ti.template(), state: ti.template(), scratch: ti.template(), p
         flag = 0
     elif flag == motion.VIOLATED:
         flag = 1
-        if ti.static(enabled and (not parallel or _on_cpu())):
+        if ti.static(enabled and (not parallel or schedule.on_cpu())):
             if _prepare(model, state, scratch):
                 flag = PENDING
     scratch.nbr_flags[0] = flag
@@ -99,10 +99,6 @@ def settle(model: ti.template(), state: ti.template(), scratch: ti.template(), p
             for t in range(searching(state, scratch)):
                 search(model, state, scratch, t)
             finish(model, state, scratch, parallel)
-
-
-def _on_cpu() -> bool:
-    return ti.lang.impl.current_cfg().arch in (ti.x64, ti.arm64)
 
 
 @ti.func

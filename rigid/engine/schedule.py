@@ -53,16 +53,22 @@ def check_schedule(name: str) -> str:
     return name
 
 
+def on_cpu() -> bool:
+    """Whether Taichi runs on a CPU (after ti.init). The stages compiled for another device differ
+    in a few places (pair_parts.parts_here, refresh.settle, motion.note_motion_spread,
+    kernels.finish_frame), each through this one switch."""
+    return ti.lang.impl.current_cfg().arch in (ti.x64, ti.arm64)
+
+
 def choose_schedule(num_particles: int, pairs: bool, forced: str | None = None) -> str:
     """"serial" or "parallel" for a scene of ``num_particles`` on the current Taichi arch.
     ``forced`` (or the RIGID_SCHEDULE environment variable) overrides the choice."""
     forced = forced or os.environ.get(SCHEDULE_ENV) or None
     if forced is not None:
         return check_schedule(forced)
-    cfg = ti.lang.impl.current_cfg()
-    if cfg.arch not in (ti.x64, ti.arm64):
+    if not on_cpu():
         return "parallel"
-    threads = cfg.cpu_max_num_threads
+    threads = ti.lang.impl.current_cfg().cpu_max_num_threads
     if threads < 2:
         return "serial"
     base = PARALLEL_MIN_PARTICLES_PAIRS if pairs else PARALLEL_MIN_PARTICLES_ALONE

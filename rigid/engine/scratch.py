@@ -38,10 +38,11 @@ def grid_params(diameter: float, skin_fraction: float) -> np.ndarray:
     """grid_params for a skin of ``skin_fraction`` diameters: 1 / the cell (the diameter plus the
     skin), the skin, the relative motion allowed before a rebuild (grid.py, neighbours.py), the
     largest particle radius (pair_stages.pair_between), the share of the particles a refresh may
-    cover and what a full build costs in refreshed particles, per particle (refresh.py)."""
+    cover and what a full build costs in refreshed particles, per particle (refresh.py); then nine
+    slots for the motion test's reductions off a CPU (motion.REDUCED, note_motion_spread)."""
     skin = skin_fraction * diameter
     return np.array([1.0 / (diameter + skin), skin, neighbours.ALLOWED_MOTION * skin, 0.5 * diameter,
-                     refresh.REFRESH_FRACTION, refresh.BUILD_COST])
+                     refresh.REFRESH_FRACTION, refresh.BUILD_COST] + [0.0] * 9)
 
 
 def particle_diameter(model) -> float:

@@ -18,7 +18,7 @@ way, so runs are bit-reproducible. A lone body is B = 1: no grid, no pairs.
 """
 import taichi as ti
 
-from . import pair_stages, schemes
+from . import pair_stages, schedule, schemes
 from .contact import plane_force
 from .grab import grab_share
 from .matvec import body_offset, matvec
@@ -241,3 +241,36 @@ def block_contact_energy(model: ti.template(), state: ti.template(), world: ti.t
             _f, _c, e = pair_stages.pair_forces(model, state, world, scratch, i, False)
             energy += e
     return energy
+
+
+ENERGY_CHUNK = 256  # blocks one GPU thread sums for a frame's contact energy (sum_energy_chunks)
+
+
+@ti.func
+def sum_energy_chunks(model: ti.template(), scratch: ti.template()):
+    """Off a CPU, at a kernel's top level: each chunk of ENERGY_CHUNK blocks' energies summed in
+    order by a thread of its own, into the chunk's first slot (a GPU's one thread summing 20,000
+    blocks would wait on every load: by estimate, unmeasured); on a CPU nothing
+    (block_energy_total sums every block)."""
+    if ti.static(not schedule.on_cpu()):
+        K = model.block_start.shape[0]
+        for c in range((K + ENERGY_CHUNK - 1) // ENERGY_CHUNK):
+            total = 0.0
+            for k in range(c * ENERGY_CHUNK, ti.min(K, (c + 1) * ENERGY_CHUNK)):
+                total += scratch.block_energy[k]
+            scratch.block_energy[c * ENERGY_CHUNK] = total
+
+
+@ti.func
+def block_energy_total(model: ti.template(), scratch: ti.template()):
+    """A frame's contact energy on one thread, in a fixed order: every block's on a CPU, else the
+    chunks' sums (sum_energy_chunks)."""
+    K = model.block_start.shape[0]
+    total = 0.0
+    if ti.static(schedule.on_cpu()):
+        for k in range(K):
+            total += scratch.block_energy[k]
+    else:
+        for c in range((K + ENERGY_CHUNK - 1) // ENERGY_CHUNK):
+            total += scratch.block_energy[c * ENERGY_CHUNK]
+    return total
