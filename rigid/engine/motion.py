@@ -58,6 +58,16 @@ def body_shift(scratch: ti.template(), state: ti.template(), b):
 
 
 @ti.func
+def _bound(scratch: ti.template(), state: ti.template(), b, c):
+    """e_b = |Δx_b − c| + ‖ΔR_b‖₂ ρ_b (note_motion), a NaN as 1e30 (moved: a rebuild at once)."""
+    dx, turn = body_shift(scratch, state, b)
+    e = (dx - c).norm() + turn
+    if not (e <= 1e30):
+        e = 1e30
+    return e
+
+
+@ti.func
 def note_motion(scratch: ti.template(), state: ti.template()):
     """Measure each body's motion since the last build and ask for a rebuild if two particles may
     have closed by more than the skin in total (run on one thread: a fixed-order sum). A
@@ -82,10 +92,7 @@ def note_motion(scratch: ti.template(), state: ti.template()):
     c = 0.5 * (lo + hi)
     first, second = 0.0, 0.0
     for b in range(B):
-        dx, turn = body_shift(scratch, state, b)
-        e = (dx - c).norm() + turn
-        if not (e <= 1e30):
-            e = 1e30
+        e = _bound(scratch, state, b, c)
         scratch.build_pose[b][13] = e
         if e > first:
             second = first
@@ -123,10 +130,7 @@ def note_motion_spread(scratch: ti.template(), state: ti.template()):
     for b in range(state.x.shape[0]):
         c = ti.Vector([0.5 * (scratch.grid_params[REDUCED + k] + scratch.grid_params[REDUCED + 3 + k])
                        for k in ti.static(range(3))])
-        dx, turn = body_shift(scratch, state, b)
-        e = (dx - c).norm() + turn
-        if not (e <= 1e30):
-            e = 1e30
+        e = _bound(scratch, state, b, c)
         scratch.build_pose[b][13] = e
         ti.atomic_max(scratch.grid_params[REDUCED + 6], e)
     for b in range(state.x.shape[0]):
