@@ -177,16 +177,23 @@ def compare(units, counts=(27, 125, 1000), seconds: float = 3.0, repeats=None) -
     return rows
 
 
-def markdown(rows: list[dict], have: dict) -> list[str]:
+def table(rows: list[dict]) -> tuple[list[str], list[list[str]]]:
+    """The side-by-side table (bench_many.md's and the report's): its header and each pile's cells,
+    wall seconds per simulated second ("-": an engine not installed)."""
     names = [n for n, _e, _a in COLUMNS]
+    cells = [[f"{r['bodies']:,} ({r['particles']:,})"]
+             + [f"{r['wall_per_sim_s'][n]:.3f}" if n in r["wall_per_sim_s"] else "-" for n in names] for r in rows]
+    return ["bodies (particles)"] + names, cells
+
+
+def markdown(rows: list[dict], have: dict) -> list[str]:
+    header, cells = table(rows)
     lines = ["## Side by side with PyBullet and MuJoCo (wall seconds per simulated second)", "",
              f"PyBullet {have.get('pybullet') or 'not installed'}, MuJoCo {have.get('mujoco') or 'not installed'}; "
              "the icosphere pile dropped into the box, 3 s simulated, each engine at its default step "
              "(ours 1 ms symplectic, PyBullet 1/240 s, MuJoCo 2 ms CG); medians of interleaved repeats "
              "(rigid/bench/peers.py). Below 1: faster than real time.", "",
-             "| bodies (particles) | " + " | ".join(names) + " | repeats |",
-             "|---|" + "---|" * (len(names) + 1)]
-    for r in rows:
-        cells = [f"{r['wall_per_sim_s'][n]:.3f}" if n in r["wall_per_sim_s"] else "-" for n in names]
-        lines.append(f"| {r['bodies']:,} ({r['particles']:,}) | " + " | ".join(cells) + f" | {r['repeats']} |")
+             "| " + " | ".join(header) + " | repeats |",
+             "|---|" + "---|" * len(header)]
+    lines += ["| " + " | ".join(row) + f" | {r['repeats']} |" for row, r in zip(cells, rows)]
     return lines + [""]

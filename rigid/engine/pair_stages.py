@@ -14,7 +14,8 @@ from .contact import pair_contact
 def note_motion(model: ti.template(), state: ti.template(), scratch: ti.template(), parallel: ti.template(),
                 refresh_lists: ti.template(), defer_search: ti.template()):
     """Stage 1a (bodies in contact): whether the neighbour lists must be rebuilt (motion.py):
-    each body's motion on one thread (a parallel kernel's top level would split its loops), then
+    each body's motion on one thread on a CPU (a parallel kernel's top level would split its
+    loops), as parallel loops off one (motion.note_motion_spread), then
     the pairs of bodies near enough to touch, in parallel with ``parallel``; then, if a pair
     moved too far, the bodies that moved refreshed (with ``refresh_lists``: refresh.py) or a
     full build asked for (``defer_search``: the refresh's search left to split_substep.py)."""

@@ -6,6 +6,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from rigid.bench.peers import table
+
 
 def write(doc, out: Path, pile: dict, dominoes: dict, bench: dict | None) -> None:
     doc.heading("Many bodies", 2)
@@ -109,17 +111,14 @@ def _peers(doc, bench: dict) -> None:
     """The peers' table (rigid/bench/peers.py) and what sleeping saves (rigid/bench/sleeping.py)."""
     peers, versions = bench.get("peers") or [], bench.get("peer_versions") or {}
     if peers:
-        engines = list(peers[0]["wall_per_sim_s"])
         named = ", ".join(f"{name} {v}" for name, v in (("PyBullet", versions.get("pybullet")),
                                                          ("MuJoCo", versions.get("mujoco"))) if v)
         doc.para(f"The same pile of icospheres in PyBullet and MuJoCo ({named or 'not installed'}; each "
-                 "body as the same mesh, its convex hull, or as a sphere primitive of the mesh's radius), 3 s simulated, each engine at "
-                 "its own default step (this engine 1 ms symplectic Euler, PyBullet 1/240 s, MuJoCo 2 ms "
-                 "with its CG solver), in wall seconds per simulated second (below 1: faster than real "
-                 "time), medians of interleaved repeats:")
-        doc.table(["bodies (particles)"] + engines,
-                  [[f"{p['bodies']:,} ({p['particles']:,})"] + [_seconds(p["wall_per_sim_s"].get(e)) for e in engines]
-                   for p in peers])
+                 "body as the same mesh, its convex hull, or as a sphere primitive of the mesh's radius), 3 s "
+                 "simulated, each engine at its own default step (this engine 1 ms symplectic Euler, PyBullet "
+                 "1/240 s, MuJoCo 2 ms with its CG solver), in wall seconds per simulated second (below 1: "
+                 "faster than real time), medians of interleaved repeats:")
+        doc.table(*table(peers))
     sleeping = bench.get("sleeping")
     if sleeping and sleeping.get("all_asleep"):
         doc.para(f"Bodies at rest sleep: {sleeping['bodies']} spheres cost {sleeping['falling_us_per_substep']:.0f} µs "
@@ -143,10 +142,6 @@ def _profile(doc, bench: dict) -> None:
                 f"{1 / max(p['rebuilds_per_substep'], 1e-9):.0f} substeps)",
                 f"{p['per_substep_us']['pairs']:.0f}", f"{p['per_substep_us']['blocks']:.0f}",
                 f"{p['per_substep_us']['update']:.0f}"] for name, p in profile.items()])
-
-
-def _seconds(value) -> str:
-    return "–" if value is None else f"{value:.3f}" if value < 1 else f"{value:.2f}"
 
 
 def _rise(rise: float) -> str:
