@@ -59,6 +59,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="initial orientation, a quaternion, scalar first (default 1 0 0 0)")
     g.add_argument("--particle-mass", type=float, metavar="KG", dest="particle_mass",
                    help=f"mass of each particle, kg (default {d.particle_mass:g})")
+    g.add_argument("--drag", type=float, metavar="C", help="linear air drag f = -C v on every particle, N s/m "
+                   "(default 0; a [[body]] table's drag overrides it)")
     g = p.add_argument_group("contact (the handout's stiffnesses)")
     g.add_argument("--collision-stiffness", type=float, metavar="K", dest="collision_stiffness",
                    help=f"penalty spring per particle, N/m (default {d.collision_stiffness:g})")
@@ -71,7 +73,9 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--integrator", choices=("euler", "symplectic", "rk4"),
                    help="euler: explicit, as on the slides (default); symplectic; rk4")
     g.add_argument("--fp64", action="store_true", default=None, help="simulate in float64")
-    g.add_argument("--arch", choices=("cpu", "gpu"), help="cpu (default) or gpu: CUDA or Vulkan if present")
+    g.add_argument("--arch", choices=("cpu", "gpu", "cuda", "vulkan", "metal"),
+                   help="cpu (default); gpu: CUDA or a hardware Vulkan if present, else the CPU with a note; "
+                        "cuda, vulkan, metal: that backend or an error (vulkan takes software devices too)")
     g.add_argument("--seed", type=int, help="seed for the random kick and sampling (default 0)")
     g = p.add_argument_group("output")
     g.add_argument("--frames", type=int, metavar="N", help="frames to simulate (window: until closed; "
@@ -107,7 +111,7 @@ def config_from_args(args: argparse.Namespace) -> SimConfig:
     for key in ("mesh", "scale", "position", "orientation", "initial_velocity", "initial_angular_velocity",
                 "gravity", "walls", "particles", "grid", "count", "dt", "integrator", "fp64", "arch", "seed",
                 "frames", "resolution", "particle_mass", "collision_stiffness", "velocity_damping_stiffness",
-                "friction_stiffness", "sleep"):
+                "friction_stiffness", "sleep", "drag"):
         value = getattr(args, key)
         if value is not None and key in BODY_FLAGS and values.get("bodies"):
             raise UserError(f"{BODY_FLAGS[key]} sets one body, but {args.scene} has [[body]] tables; "

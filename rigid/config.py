@@ -17,6 +17,9 @@ from pathlib import Path
 
 from .errors import UserError
 
+# The backends --arch takes (runtime.init_taichi): "gpu" picks one, the others are asked by name.
+ARCHES = ("cpu", "gpu", "cuda", "vulkan", "metal")
+
 REPO_ROOT = Path(__file__).resolve().parent.parent
 # The checkout's assets/, or the copy `pip install .` puts in the package (pyproject.toml).
 ASSETS = REPO_ROOT / "assets" if (REPO_ROOT / "assets").is_dir() else Path(__file__).resolve().parent / "assets"
@@ -38,6 +41,7 @@ class SimConfig:
     initial_angular_velocity: tuple = (0.0, 0.0, 0.0)  # world frame, rad/s
     particle_radius: float | None = None  # collision radius between bodies; None: from the spacing
     count: int = 1  # copies of the body, placed in a lattice above position (rigid.bodies.placement)
+    drag: float = 0.0  # linear air drag c: f = -c v on every particle, N s/m (rigid.engine.forces)
     # [[body]] tables of a scene: per-body overrides of the keys above (BODY_KEYS); empty: one body
     bodies: tuple = ()
     # world
@@ -54,6 +58,7 @@ class SimConfig:
     friction: float | None = None  # Coulomb mu with static friction (a tangential spring at each contact)
     planes: tuple = ()  # [[plane]] tables: point, normal, friction, restitution
     statics: tuple = ()  # [[static]] tables: mesh, scale, position, orientation, friction, restitution
+    springs: tuple = ()  # [[spring]] tables: bodies, points, stiffness, damping, rest_length (rigid.bodies.springs)
     # time
     dt: float = 1e-3
     integrator: str = "euler"  # euler (the slides) | symplectic | rk4
@@ -100,7 +105,7 @@ class SimConfig:
     def validate(self) -> "SimConfig":
         for name in ("scale", "particle_mass", "dt"):
             _positive(name, getattr(self, name))
-        for name in ("collision_stiffness", "velocity_damping_stiffness", "friction_stiffness"):
+        for name in ("collision_stiffness", "velocity_damping_stiffness", "friction_stiffness", "drag"):
             _non_negative(name, getattr(self, name))
         for name in ("floor", "wall"):
             _finite(name, getattr(self, name))
@@ -125,8 +130,8 @@ class SimConfig:
             raise UserError(f"particles = {self.particles!r}: use 'vertex' or 'volume'")
         if self.integrator not in ("euler", "symplectic", "rk4"):
             raise UserError(f"integrator = {self.integrator!r}: use 'euler', 'symplectic' or 'rk4'")
-        if self.arch not in ("cpu", "gpu"):
-            raise UserError(f"arch = {self.arch!r}: use 'cpu' or 'gpu'")
+        if self.arch not in ARCHES:
+            raise UserError(f"arch = {self.arch!r}: use one of {', '.join(ARCHES)}")
         if not isinstance(self.grid, int) or isinstance(self.grid, bool) or not 2 <= self.grid <= MAX_GRID:
             raise UserError(f"grid = {self.grid!r}: use a whole number of cells from 2 to {MAX_GRID}, e.g. --grid 64")
         if self.frames is not None and (not isinstance(self.frames, int) or self.frames <= 0):
@@ -141,10 +146,11 @@ class SimConfig:
 
 
 MATERIAL_KEYS = ("restitution", "friction")
-SCENE_KEYS = {f.name for f in fields(SimConfig)} - {"bodies", "planes", "statics"} | {"body", "plane", "static"}
+SCENE_KEYS = ({f.name for f in fields(SimConfig)} - {"bodies", "planes", "statics", "springs"}
+              | {"body", "plane", "static", "spring"})
 # Keys a [[body]] table may set; at the top level they are every body's defaults.
 BODY_KEYS = {"mesh", "scale", "position", "orientation", "initial_velocity", "initial_angular_velocity",
-             "particle_mass", "particles", "grid", "particle_radius", "count", *MATERIAL_KEYS}
+             "particle_mass", "particles", "grid", "particle_radius", "count", "drag", *MATERIAL_KEYS}
 _VECTOR_KEYS = {"position", "initial_velocity", "initial_angular_velocity", "gravity", "resolution",
                 "orientation"}
 
@@ -196,11 +202,12 @@ def load_scene(path: str | Path) -> dict:
     if camera is not None and not isinstance(camera, dict):
         raise UserError(f"scene file {path}: 'camera' must be a [camera] table (position, look_at, fov, follow)")
     planes, statics, tables = data.pop("plane", []), data.pop("static", []), data.pop("body", [])
-    for name, given, what in (("plane", planes, ""), ("static", statics, ""), ("body", tables, ", one per body")):
+    springs = data.pop("spring", [])  # checked with the bodies placed: rigid.bodies.springs
+    for name, given, what in (("plane", planes, ""), ("static", statics, ""), ("spring", springs, ""),
+                              ("body", tables, ", one per body")):
         if not isinstance(given, list) or not all(isinstance(t, dict) for t in given):
             raise UserError(f"scene file {path}: '{name}' must be [[{name}]] tables{what}")
-    if planes:
-        data["planes"] = tuple(planes)
+    data.update({key: tuple(value) for key, value in (("planes", planes), ("springs", springs)) if value})
     if statics:
         data["statics"] = tuple({**t, "mesh": resolve_mesh(path, t["mesh"])} if isinstance(t.get("mesh"), str)
                                 else t for t in statics)
@@ -225,7 +232,7 @@ def _check_table(path: Path, table: dict, where: str) -> dict:
     """Check the types of a table's keys (in place), resolve its mesh path, make vectors tuples."""
     defaults = SimConfig()
     for key, value in table.items():
-        if key not in ("planes", "statics"):  # [[plane]], [[static]]: rigid.bodies.colliders checks them
+        if key not in ("planes", "statics", "springs"):  # [[plane]], [[static]]: rigid.bodies.colliders checks them
             _check_type(path, key, value, getattr(defaults, key), where)
     if "mesh" in table:
         table["mesh"] = resolve_mesh(path, table["mesh"])

@@ -13,6 +13,9 @@ import sys
 
 import taichi as ti  # rigid/__init__.py has set Taichi's environment before this import
 
+from .config import ARCHES
+from .errors import UserError
+
 _initialised: dict | None = None
 
 
@@ -20,7 +23,11 @@ QUICK_COMPILE_ENV = "RIGID_QUICK_COMPILE"  # "1": quick_compile by default (the 
 
 
 def init_taichi(arch: str = "cpu", fp64: bool = False, debug: bool = False, quick_compile: bool | None = None) -> str:
-    """Initialise Taichi once; return the backend actually used ("cpu", "cuda", "vulkan").
+    """Initialise Taichi once; return the backend actually used ("cpu", "cuda", "vulkan", "metal").
+
+    ``arch``: "cpu"; "gpu" (a hardware GPU if any, else the CPU with a note); or a backend by
+    name ("cuda", "vulkan", "metal"), which runs there or raises BackendUnavailable: an explicit
+    "vulkan" takes any Vulkan device, software ones (Mesa lavapipe) included.
 
     ``quick_compile``: skip Taichi's advanced IR optimisations (``advanced_optimization=False``;
     LLVM still optimises the machine code). Kernels compile 2-3x faster (a lone body cold:
@@ -41,20 +48,16 @@ def init_taichi(arch: str = "cpu", fp64: bool = False, debug: bool = False, quic
     fp = ti.f64 if fp64 else ti.f32
     common = dict(default_fp=fp, log_level=ti.WARN, offline_cache=True, debug=debug,
                   random_seed=0, advanced_optimization=not quick_compile)
+    if arch not in ARCHES:
+        raise UserError(f"arch = {arch!r}: use one of {', '.join(ARCHES)}")
     backend = "cpu"
     if arch == "gpu":
-        for candidate, name in ((ti.cuda, "cuda"), (ti.vulkan, "vulkan")):
-            if name == "cuda" and ctypes.util.find_library("cuda") is None:
-                continue  # no NVIDIA driver: skip Taichi's two lines of warnings about it
+        for name in ("cuda", "vulkan"):
             if name == "vulkan" and not glob.glob("/dev/dri/renderD*") and sys.platform == "linux":
                 # Without a GPU render node the only Vulkan device is a software one (Mesa
                 # lavapipe, installed for drawing): slower than Taichi's own CPU backend.
                 continue
-            try:
-                _quiet_init(arch=candidate, **common)
-            except Exception:
-                continue
-            if ti.lang.impl.current_cfg().arch == candidate:
+            if _try_init(name, common):
                 backend = name
                 break
         else:
@@ -62,10 +65,34 @@ def init_taichi(arch: str = "cpu", fp64: bool = False, debug: bool = False, quic
                   "running on the CPU",
                   file=sys.stderr)
             _quiet_init(arch=ti.cpu, **common)
-    else:
+    elif arch == "cpu":
         _quiet_init(arch=ti.cpu, **common)
+    elif _try_init(arch, common):  # asked by name: that backend or an error, never a silent CPU
+        backend = arch
+    else:
+        raise BackendUnavailable(f"--arch {arch}: Taichi found no {arch} device here; "
+                                 f"use --arch cpu, or --arch gpu to take whatever GPU there is")
     _initialised = dict(wanted=wanted, backend=backend)
     return backend
+
+
+class BackendUnavailable(UserError):
+    """An arch asked for by name that this machine cannot give."""
+
+
+def _try_init(name: str, common: dict) -> bool:
+    """ti.init on backend ``name``; True if Taichi really runs there (it falls back to the CPU
+    with a warning when the device is missing)."""
+    if name == "cuda" and ctypes.util.find_library("cuda") is None:
+        return False  # no NVIDIA driver: don't let Taichi warn and fall back to the CPU
+    if name == "metal" and sys.platform != "darwin":
+        return False
+    candidate = getattr(ti, name)
+    try:
+        _quiet_init(arch=candidate, **common)
+    except Exception:
+        return False
+    return ti.lang.impl.current_cfg().arch == candidate
 
 
 def _quiet_init(**kwargs):

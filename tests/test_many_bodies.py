@@ -33,6 +33,15 @@ def test_symplectic_conserves_total_angular_momentum_with_friction(fp64):
     assert r["J_drift"] < 1e-12 * max(r["J_scale"], 1.0)
 
 
+def test_a_spring_between_two_bodies_keeps_total_momentum_and_angular_momentum(fp64):
+    # Equal and opposite forces along the line of the two points: Σ P and Σ (L + x × P) stay
+    # what they were under symplectic Euler (the spring's torques do turn each body).
+    r = fp64["springs"]
+    assert r["turned"] > 0.05, "the spring never turned the bodies: the test would prove little"
+    assert r["P_drift"] < 1e-12 * max(r["P_scale"], 1.0)
+    assert r["J_drift"] < 1e-12 * max(r["J_scale"], 1.0)
+
+
 def test_explicit_euler_angular_momentum_error_is_first_order(fp64):
     coarse, fine = fp64["euler_coarse"]["J_drift"], fp64["euler_fine"]["J_drift"]
     assert coarse > 1e-6, "explicit Euler should drift: otherwise the order is not measurable"

@@ -47,6 +47,7 @@ class BodySpec:
     restitution: float | None = None  # the body's e and μ (rigid.bodies.colliders; None: unset)
     friction: float | None = None
     static: bool = False  # a [[static]] mesh (rigid.bodies.statics)
+    drag: float = 0.0  # linear drag c per particle, N s/m (rigid.engine.forces)
     group: tuple | None = None  # (entry, copy) of the meshes one file places together
 
     @classmethod
@@ -54,7 +55,8 @@ class BodySpec:
         """The one body ``geometry`` at the config's pose, velocities, mass and radius."""
         return cls("body", geometry, config.particle_mass, config.particle_radius or 0.0,
                    *(np.asarray(getattr(config, k), float) for k in
-                     ("position", "orientation", "initial_velocity", "initial_angular_velocity")))
+                     ("position", "orientation", "initial_velocity", "initial_angular_velocity")),
+                   drag=config.drag)
 
     @property
     def centre_of_mass(self) -> np.ndarray:
@@ -107,14 +109,15 @@ def scene_bodies(config) -> list[BodySpec]:
             name = f"{stem}_{entry}_{k}" if body.count > 1 else f"{stem}_{entry}"
             if len(parts) == 1:
                 bodies.append(BodySpec(name, template.geometry, body.particle_mass, template.radius, slot, q,
-                                       template.velocity, template.angular_velocity, body.restitution, body.friction))
+                                       template.velocity, template.angular_velocity, body.restitution, body.friction,
+                                       drag=body.drag))
                 continue
             R = quaternion_to_matrix_np(q)
             for t, offset in zip(templates, offsets):  # the group turned about its centre, moving rigidly
                 arm = R @ offset
                 bodies.append(BodySpec(f"{name}_{t.name}", t.geometry, t.particle_mass, t.radius, slot + arm, q,
                                        t.velocity + np.cross(t.angular_velocity, arm), t.angular_velocity,
-                                       body.restitution, body.friction, group=(entry, k)))
+                                       body.restitution, body.friction, group=(entry, k), drag=body.drag))
     if len(bodies) == 1:
         bodies[0].name = "body"
     return bodies

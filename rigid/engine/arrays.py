@@ -16,8 +16,8 @@ float is the run's precision, so the types are made after ``ti.init`` (and cache
 State and World are documented in model.py and state.py, the grid's arrays in grid.py; the
 rest of ScratchArgs, per particle slot [N] (world frame): ``particle_f`` the pair force,
 ``particle_couple`` the pairs' couple about the particle; per block [K]: ``block_energy`` its
-springs' energy (at a frame's end), ``partial_F``, ``partial_tau`` its share of F and τ
-(about the body's centre of mass); [2B]: ``rk`` RK4's Y₀ (slots 0..B−1) and the weighted sum of
+springs' energy (at a frame's end), ``block_wrench`` its share of F (0..2) and τ (3..5, about the
+body's centre of mass); [2B]: ``rk`` RK4's Y₀ (slots 0..B−1) and the weighted sum of
 its stages (slots B..2B−1), x, q, P, L packed in 13 numbers; with materials,
 ``contacts`` [N + 2K + 2B] i32: each particle's pair contacts, each block's plane and pair
 contacts, each body's of the last evaluation (material_stages.py; else one element; one
@@ -46,7 +46,7 @@ def _element(kind: str):
     f = float_dtype()
     return {"f": f, "i": ti.i32, "v3": ti.types.vector(3, f), "v4": ti.types.vector(4, f),
             "v13": ti.types.vector(13, f), "v16": ti.types.vector(16, f), "m3": ti.types.matrix(3, 3, f),
-            "v3i": ti.types.vector(3, ti.i32)}[kind]
+            "v3i": ti.types.vector(3, ti.i32), "v2i": ti.types.vector(2, ti.i32), "v6": ti.types.vector(6, f)}[kind]
 
 
 def _pack_type(members: dict):
@@ -66,7 +66,7 @@ ModelArgs = _pack_type(dict(
     particle_mass=("f", 1), particle_radius=("f", 1), body_mass=("f", 1),
     inertia_body=("m3", 1), inertia_body_inv=("m3", 1),
     block_start=("i", 1), block_count=("i", 1), block_body=("i", 1),
-    block_centre=("v3", 1), block_bounds=("v4", 1), body_block_start=("i", 1), body_block_count=("i", 1),
+    block_centre=("v3", 1), block_bounds=("v4", 1), body_blocks=("v2i", 1),
     body_material=("v4", 1)))
 
 
@@ -75,10 +75,10 @@ StateArgs = _pack_type(dict(
     R=("m3", 1), inertia_inv=("m3", 1), particle_x=("v3", 1), particle_v=("v3", 1), sleep=("v3i", 1),
     plane_slip=("v3", 1)))
 
-WorldArgs = _pack_type(dict(values=("f", 1), planes=("v4", 1)))
+WorldArgs = _pack_type(dict(values=("f", 1), planes=("v4", 1), springs=("v16", 1)))
 
 ScratchArgs = _pack_type(dict(
-    particle_f=("v3", 1), particle_couple=("v3", 1), block_energy=("f", 1), partial_F=("v3", 1), partial_tau=("v3", 1),
+    particle_f=("v3", 1), particle_couple=("v3", 1), block_energy=("f", 1), block_wrench=("v6", 1),
     cell_count=("i", 1), cell_start=("i", 1),
     sorted_particle=("i", 1), sorted_x=("v3", 1), sorted_body=("i", 1), sorted_run_end=("i", 1), chunk_total=("i", 1), grid_dims=("i", 1), grid_params=("f", 1),
     nbr_count=("i", 1), nbr_list=("i", 1), build_x=("v3", 1), nbr_flags=("i", 1), active=("i", 1), build_pose=("v16", 1),

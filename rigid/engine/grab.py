@@ -1,9 +1,9 @@
 """A body held by the mouse: a damped spring from one particle to a target point.
 
 The window (rigid/view/grab.py) picks a particle under the cursor and moves the target with it;
-the spring's force on that particle is one more particle force, whose TODO 3 and TODO 4 terms
-are added to its block's sums (stages.py), so it moves and spins the body exactly as a contact
-at that particle would, and the momentum bookkeeping (ΔP = Σ f Δt, ΔL = Σ r × f Δt)
+the spring's force on that particle is a force at a point (forces.point_wrench), whose TODO 3
+and TODO 4 terms are added to its body's sums in every scene, so it moves and spins the body
+exactly as a contact at that particle would, and the momentum bookkeeping (ΔP = Σ f Δt, ΔL = Σ r × f Δt)
 holds for it as for every other force. It is an external force: it changes P, L and the energy.
 
     f = k (target − p) − c v_p        (p, v_p: the grabbed particle's position and velocity)
@@ -15,9 +15,7 @@ slot holds −1 when nothing is held. ``Params`` (state.py) keeps the host copy 
 import math
 
 import numpy as np
-import taichi as ti
 
-from .matvec import matvec
 
 # Slots of WorldArgs.values (after the world's own, with room left for more of those).
 GRAB_FIRST = 24
@@ -46,22 +44,3 @@ def default_spring(body_mass: float) -> tuple[float, float]:
     """(k, c) for a body of mass ``body_mass``: see GRAB_HZ."""
     omega = 2.0 * math.pi * GRAB_HZ
     return body_mass * omega * omega, 2.0 * body_mass * omega
-
-
-@ti.func
-def grab_share(u: ti.template(), model: ti.template(), world: ti.template(), start, end, x, R, v, omega):
-    """The spring's terms in TODO 3 and TODO 4 for a block of slots start..end−1 of a body at
-    (x, R, v, ω): those of the held particle if it is in the block, else zero. Summed once per
-    block beside its particles' loop (a test per particle would slow the loop every frame)."""
-    F = ti.Vector.zero(float, 3)
-    tau = ti.Vector.zero(float, 3)
-    i = ti.cast(world.values[GRAB_SLOT], ti.i32)
-    if start <= i and i < end:
-        r0 = ti.Vector([model.r0_x[i], model.r0_y[i], model.r0_z[i]])
-        r = matvec(R, r0)
-        p = x + r
-        target = ti.Vector([world.values[GRAB_TX], world.values[GRAB_TY], world.values[GRAB_TZ]])
-        f = world.values[GRAB_K] * (target - p) - world.values[GRAB_C] * (v + omega.cross(r))
-        F = u.total_force_term(f)
-        tau = u.torque_term(p, x, R, r0, f)
-    return F, tau

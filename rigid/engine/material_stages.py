@@ -15,11 +15,11 @@ Every sum keeps the fixed orders of stages.py (slots, blocks), so runs stay bit-
 """
 import taichi as ti
 
-from . import grid, neighbours
+from . import forces, grid, neighbours
 from .contact import pair_force_damped, plane_force_sticking
 from .materials import normal_damping, pair_mu, pair_restitution, plane_damping, sticking_damping
 from .matvec import matvec
-from .stages import gravity, num_planes, planes_in_reach
+from .stages import gravity, num_planes, planes_in_reach, wrench
 from .state import DAMPING, DT, FRICTION, MATERIAL_TABLE, MATERIALS, MAX_PLANES, STIFFNESS
 
 
@@ -149,12 +149,15 @@ def block_forces(u: ti.template(), model: ti.template(), state: ti.template(), w
         m_eff = model.body_mass[b] / ti.max(_body_count(model, state, scratch, b, 0), 1)
         mat = model.body_material[b]
         ct = sticking_damping(stiffness, m_eff, dt)
+        dragged = mat[forces.DRAG] != 0.0
         for i in range(start, end):
             r0 = ti.Vector([model.r0_x[i], model.r0_y[i], model.r0_z[i]])
             r = matvec(R, r0)
             p = x + r
             pv = v + omega.cross(r)
             f = u.gravity_force(m, g)
+            if dragged:
+                f += forces.particle_force(model, b, pv)
             for j in range(num_planes(world)):
                 slot = i * MAX_PLANES + j
                 if near & (1 << j):
@@ -179,8 +182,8 @@ def block_forces(u: ti.template(), model: ti.template(), state: ti.template(), w
                 pair_contacts += scratch.contacts[i]
             F += u.total_force_term(f)
             tau += u.torque_term(p, x, R, r0, f) + couple
-    scratch.partial_F[k] = F
-    scratch.partial_tau[k] = tau
+    F, tau = forces.add_point_forces(u, model, state, world, b, k, F, tau)
+    scratch.block_wrench[k] = wrench(F, tau)
     base = state.particle_x.shape[0]
     scratch.contacts[base + 2 * k] = plane_contacts
     scratch.contacts[base + 2 * k + 1] = pair_contacts
@@ -189,10 +192,10 @@ def block_forces(u: ti.template(), model: ti.template(), state: ti.template(), w
 @ti.func
 def count_contacts(model: ti.template(), state: ti.template(), scratch: ti.template(), b):
     """Body b's contacts (planes, pairs) of this evaluation, for the next one's m_eff."""
-    first = model.body_block_start[b]
+    first, count = model.body_blocks[b][0], model.body_blocks[b][1]
     planes, pairs = 0, 0
     N, K = state.particle_x.shape[0], model.block_start.shape[0]
-    for k in range(first, first + model.body_block_count[b]):
+    for k in range(first, first + count):
         planes += scratch.contacts[N + 2 * k]
         pairs += scratch.contacts[N + 2 * k + 1]
     scratch.contacts[N + 2 * K + 2 * b] = planes

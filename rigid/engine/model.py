@@ -20,9 +20,10 @@ is the run's precision, f32 or f64), all read-only during a run:
 - ``block_bounds``       [K] vec4   that box's half extents along the body's axes (3), and the radius of
                                     the sphere about that centre holding every particle centre (one
                                     array: a kernel takes at most 64 argument elements), m
-- ``body_block_start``, ``body_block_count``  [B] i32  body b's blocks, consecutive
-- ``body_material``      [B] vec4   (Coulomb μ, restitution e, 1 if static else 0, 0): materials.py,
-                                    −1 for an unset μ or e; a static mesh has infinite mass, is not integrated
+- ``body_blocks``        [B] 2×i32  body b's blocks, consecutive: (first, how many)
+- ``body_material``      [B] vec4   (Coulomb μ, restitution e, 1 if static else 0, drag c in N s/m):
+                                    materials.py, −1 for an unset μ or e; a static mesh has infinite mass,
+                                    is not integrated; the drag is forces.particle_force's
 
 The drawn meshes (``surface``, for windows, videos and exports) are not read by a substep:
 ``surface_r0`` [V] vec3 (body frame about the centre of mass), ``surface_body`` [V] i32 and
@@ -59,6 +60,7 @@ class BodyParts:
     restitution: float | None = None  # e, None: unset (velocity_damping_stiffness)
     friction: float | None = None  # Coulomb μ, None: unset (friction_stiffness)
     static: bool = False  # a [[static]] mesh: never moves (rigid.engine.material_stages)
+    drag: float = 0.0  # linear drag c, N s/m per particle: f = −c vᵢ (rigid.engine.forces)
 
 
 class Model:
@@ -99,8 +101,10 @@ class Model:
         self.body_mass = device_array(self.body_mass_np)
         self.inertia_body = ti.ndarray(ti.types.matrix(3, 3, float_dtype()), B)
         self.inertia_body_inv = ti.ndarray(ti.types.matrix(3, 3, float_dtype()), B)
-        for name in ("block_start", "block_count", "block_body", "body_block_start", "body_block_count"):
+        for name in ("block_start", "block_count", "block_body"):
             setattr(self, name, device_array(layout[name], dtype=ti.i32))
+        self.body_blocks = device_array(np.column_stack([layout["body_block_start"], layout["body_block_count"]]),
+                                        2, dtype=ti.i32)
         self.block_centre = device_array(layout["block_centre"], 3)
         # Rounded up, so that the float copies never under-cover their blocks.
         bounds = np.column_stack([layout["block_half"], layout["block_reach"]])
@@ -108,7 +112,7 @@ class Model:
 
         self.static_np = np.array([bool(b.static) for b in bodies])
         self.body_material = device_array(np.array([(friction_value(b.friction), friction_value(b.restitution),
-                                                     float(b.static), 0.0) for b in bodies]), 4)
+                                                     float(b.static), float(b.drag)) for b in bodies]), 4)
 
         self._surfaces(bodies, coms)
         self.args = ModelArgs()(**{name: getattr(self, name) for name in ModelArgs.NAMES})

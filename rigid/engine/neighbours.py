@@ -43,7 +43,7 @@ floats).
 """
 import taichi as ti
 
-from . import grid, scan
+from . import grid, scan, schedule
 
 NEIGHBOURS_PER_PARTICLE = 16  # list slots per particle to start with (list_growth.py doubles them where needed)
 SKIN_FRACTION = 0.5  # skin = this × the largest particle diameter
@@ -83,9 +83,47 @@ def _append(scratch: ti.template(), i, j, stride):
 
 @ti.func
 def build_list(model: ti.template(), state: ti.template(), scratch: ti.template(), i):
+    """Slot i's pairs from the freshly built grid: on a CPU each pair found once (a half shell)
+    and appended to both lists (build_half_shell); on a GPU each particle walks all 27 cells
+    around it and fills its own list alone (build_own_list). Then finish_list."""
+    if ti.static(schedule.on_cpu()):
+        build_half_shell(model, state, scratch, i)
+    else:
+        build_own_list(model, state, scratch, i)
+
+
+@ti.func
+def build_own_list(model: ti.template(), state: ti.template(), scratch: ti.template(), i):
+    """Slot i's list from the 27 cells around it: other bodies' particles within reach + skin.
+    No atomics and twice the distance tests of the half shell: a thread per particle, as a GPU
+    runs it (the half shell's appends to the other side's list, atomics on other particles'
+    counts, made Taichi's SPIR-V code skip some particles' stores on Vulkan/lavapipe)."""
+    a = model.particle_body[i]
+    p, r_a = state.particle_x[i], model.particle_radius[a]
+    skin = scratch.grid_params[1]
+    stride = list_stride(scratch, state)
+    g = grid.cell_coords(scratch, p)
+    n = 0
+    for r in range(grid.ROWS_AROUND):
+        lo, hi = grid.around_range(scratch, g, r)
+        for slot in range(lo, hi):
+            b = scratch.sorted_body[slot]
+            if b != a:
+                d = scratch.sorted_x[slot] - p
+                reach = r_a + model.particle_radius[b] + skin
+                if d.dot(d) < reach * reach:
+                    if n < stride:
+                        scratch.nbr_list[i * stride + n] = scratch.sorted_particle[slot]
+                    n += 1
+    scratch.nbr_count[i] = n
+    scratch.build_x[i] = p
+
+
+@ti.func
+def build_half_shell(model: ti.template(), state: ti.template(), scratch: ti.template(), i):
     """Slot i's pairs from the freshly built grid, each pair found once (a half shell: the rows
     ahead of i's in z, then in y, and in i's own row only slots j > i) and appended to both
-    lists; other bodies' particles within reach + skin. Then finish_list."""
+    lists; other bodies' particles within reach + skin."""
     a = model.particle_body[i]
     p, r_a = state.particle_x[i], model.particle_radius[a]
     skin = scratch.grid_params[1]

@@ -21,7 +21,7 @@ def make_scratch(model, config, pairs: bool, materials: bool):
     lists = N * neighbours.NEIGHBOURS_PER_PARTICLE if pairs else 1
     paired = N if pairs else 1  # per particle, only when bodies collide
     arrays = dict(particle_f=zeros(N, "v3"), particle_couple=zeros(N, "v3"), block_energy=zeros(K),
-                  partial_F=zeros(K, "v3"), partial_tau=zeros(K, "v3"),
+                  block_wrench=zeros(K, "v6"),
                   cell_count=zeros(shape.num_cells, "i"), cell_start=zeros(shape.num_cells + 1, "i"),
                   sorted_particle=zeros(N, "i"), sorted_x=zeros(paired, "v3"),
                   sorted_body=zeros(paired, "i"), sorted_run_end=zeros(paired, "i"),

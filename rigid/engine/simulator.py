@@ -18,6 +18,7 @@ from ..bodies.mesh import BodyGeometry
 from ..bodies.colliders import check_colliders, uses_materials
 from ..bodies.overlap import check_start
 from ..bodies.placement import BodySpec, check_inside_box, scene_bodies
+from ..bodies.springs import resolve_springs, spring_energy
 from ..bodies.statics import static_bodies
 from .arrays import clear, download, host_float, upload
 from .grab import default_spring, holding, released
@@ -56,15 +57,19 @@ class Simulator:
         if config.walls:
             check_inside_box([b for b in self.bodies if not b.static], config.floor, config.wall, use_radius=True)
         check_start(config, self.bodies)  # no body behind a [[plane]] or inside another
+        self.springs = resolve_springs(config.springs, np.array([b.position for b in self.bodies]),
+                                       np.array([b.orientation for b in self.bodies]))
         self.materials = materials = uses_materials(config)
         self.kernels = engine_kernels(units, config.integrator, pairs=len(self.bodies) > 1, materials=materials)
         parts = [BodyParts(b.geometry.particles, b.geometry.vertices, b.geometry.faces, b.particle_mass,
-                           b.radius, b.name, b.restitution, b.friction, b.static) for b in self.bodies]
+                           b.radius, b.name, b.restitution, b.friction, b.static, b.drag) for b in self.bodies]
         self.model = Model(parts, self.kernels)
         B, N = self.model.num_bodies, self.model.num_particles
         pairs = B > 1
         self.state = State(B, N, materials)
         self.params = Params(config)
+        self.params.set_springs([s.row() for s in self.springs])
+        self.params.sleep = self.params.sleep and not self.springs  # a spring's far end moves a sleeper
         self.rows = FrameRows(B)
         self.scratch, self._scratch_arrays, self.grid_shape = make_scratch(self.model, config, pairs, self.materials)
         self._launches = None
@@ -295,5 +300,8 @@ class Simulator:
     def _block(self, times: list) -> dict:
         """The rows of the last launch, with the energies (rows.with_energies)."""
         body, contact = self.rows.read(len(times))
-        return with_energies(split_rows(body), contact, times, self.params.gravity,
+        rows = split_rows(body)
+        if self.springs:  # their energy ½ k (|d| − l0)², beside the contacts'
+            contact = contact + spring_energy(self.springs, rows["x"], rows["q"])
+        return with_energies(rows, contact, times, self.params.gravity,
                              np.where(self.model.static_np, 0.0, self.model.body_mass_np))

@@ -6,8 +6,10 @@
                        from other bodies' particles (contact.py); 1-3a only when bodies
                        collide, in pair_stages.py
   3b. block_forces     per block: fᵢ = TODO 2 (m g) + the static planes in reach + the pair
-                       force, then the block's share of F = Σ TODO 3 (fᵢ) and
-                       τ = Σ TODO 4 (pᵢ, x, R, r0ᵢ, fᵢ) + the pairs' couples
+                       force + the external terms (forces.particle_force: drag), then the
+                       block's share of F = Σ TODO 3 (fᵢ) and τ = Σ TODO 4 (pᵢ, x, R, r0ᵢ, fᵢ)
+                       + the pairs' couples (+ the body's forces at points, forces.point_wrench:
+                       the grab, springs, with its first block)
   4. body_wrench       per body: F, τ = Σ of its blocks' shares, in block order;
                        then the scheme's update (schemes.py: TODO 5, 6, 7)
 Every stage is a ``ti.func`` whose arguments say what it reads and writes: ``u`` the TODO
@@ -18,9 +20,8 @@ way, so runs are bit-reproducible. A lone body is B = 1: no grid, no pairs.
 """
 import taichi as ti
 
-from . import pair_stages, schedule, schemes
+from . import forces, pair_stages, schedule, schemes
 from .contact import plane_force
-from .grab import grab_share
 from .matvec import body_offset, matvec
 from .state import DAMPING, FRICTION, GX, NUM_PLANES, STIFFNESS
 
@@ -127,11 +128,14 @@ def _block_loop(u: ti.template(), model: ti.template(), world: ti.template(), sc
     m, g = model.particle_mass[b], gravity(world)
     stiffness, kd, mu = contact_constants(world)
     radius = model.particle_radius[b]
+    dragged = model.body_material[b][forces.DRAG] != 0.0
     for i in range(start, end):
         r0 = ti.Vector([model.r0_x[i], model.r0_y[i], model.r0_z[i]])
         r = matvec(R, r0)
         p = x + r
         f = u.gravity_force(m, g)
+        if dragged:
+            f += forces.particle_force(model, b, v + omega.cross(r))
         if ti.static(count > 0):
             pv = v + omega.cross(r)
             fc, _e = plane_force(p, pv, radius, plane0, stiffness, kd, mu)
@@ -191,18 +195,23 @@ def _block_share(u: ti.template(), model: ti.template(), state: ti.template(), w
         F, tau = _block_loop(u, model, world, scratch, start, end, b, x, R, v, omega, plane0, plane1, plane2, pairs, NEAR_SLOTS)
     else:
         F, tau = _block_loop(u, model, world, scratch, start, end, b, x, R, v, omega, plane0, plane1, plane2, pairs, -1)
-    F_grab, tau_grab = grab_share(u, model, world, start, end, x, R, v, omega)  # the mouse's spring, if held here
-    scratch.partial_F[k] = F + F_grab
-    scratch.partial_tau[k] = tau + tau_grab
+    F, tau = forces.add_point_forces(u, model, state, world, b, k, F, tau)
+    scratch.block_wrench[k] = wrench(F, tau)
 
 
 @ti.func
 def block_forces(u: ti.template(), model: ti.template(), state: ti.template(), world: ti.template(),
                  scratch: ti.template(), k, pairs: ti.template(), compact: ti.template()):
     """Stage 3b for block k: its particles' forces (TODO 2 + planes + pairs if ``pairs``) and the
-    block's share of F (TODO 3) and τ (TODO 4), summed in slot order into scratch.partial_F, partial_tau.
+    block's share of F (TODO 3) and τ (TODO 4), summed in slot order into scratch.block_wrench.
     ``compact``: one particle loop that tests every plane (kernels.compact_block_loops)."""
     _block_share(u, model, state, world, scratch, k, pairs, compact)
+
+
+@ti.func
+def wrench(F, tau):
+    """(F, τ) as the six numbers of a block_wrench."""
+    return ti.Vector([F[0], F[1], F[2], tau[0], tau[1], tau[2]])
 
 
 @ti.func
@@ -210,10 +219,11 @@ def body_wrench(model: ti.template(), scratch: ti.template(), b):
     """Stage 4's sum: F and τ (about x) on body b, its blocks' shares in block order."""
     F = ti.Vector.zero(float, 3)
     tau = ti.Vector.zero(float, 3)
-    first = model.body_block_start[b]
-    for k in range(first, first + model.body_block_count[b]):
-        F += scratch.partial_F[k]
-        tau += scratch.partial_tau[k]
+    blocks = model.body_blocks[b]
+    for k in range(blocks[0], blocks[0] + blocks[1]):
+        w = scratch.block_wrench[k]
+        F += ti.Vector([w[0], w[1], w[2]])
+        tau += ti.Vector([w[3], w[4], w[5]])
     return F, tau
 
 
@@ -243,7 +253,15 @@ def block_contact_energy(model: ti.template(), state: ti.template(), world: ti.t
     return energy
 
 
-ENERGY_CHUNK = 256  # blocks one GPU thread sums for a frame's contact energy (sum_energy_chunks)
+ENERGY_CHUNK_BITS = 8  # 2**8 = 256 blocks one GPU thread sums for a frame's contact energy (sum_energy_chunks)
+ENERGY_CHUNK = 1 << ENERGY_CHUNK_BITS
+
+
+@ti.func
+def _chunks(K):
+    """How many chunks of ENERGY_CHUNK blocks cover K blocks: a shift, as SPIR-V (Vulkan, Metal)
+    cannot compile an integer division in a loop's bound."""
+    return (K + ENERGY_CHUNK - 1) >> ENERGY_CHUNK_BITS
 
 
 @ti.func
@@ -254,7 +272,7 @@ def sum_energy_chunks(model: ti.template(), scratch: ti.template()):
     (block_energy_total sums every block)."""
     if ti.static(not schedule.on_cpu()):
         K = model.block_start.shape[0]
-        for c in range((K + ENERGY_CHUNK - 1) // ENERGY_CHUNK):
+        for c in range(_chunks(K)):
             total = 0.0
             for k in range(c * ENERGY_CHUNK, ti.min(K, (c + 1) * ENERGY_CHUNK)):
                 total += scratch.block_energy[k]
@@ -271,6 +289,6 @@ def block_energy_total(model: ti.template(), scratch: ti.template()):
         for k in range(K):
             total += scratch.block_energy[k]
     else:
-        for c in range((K + ENERGY_CHUNK - 1) // ENERGY_CHUNK):
+        for c in range(_chunks(K)):
             total += scratch.block_energy[c * ENERGY_CHUNK]
     return total

@@ -22,6 +22,7 @@ import numpy as np
 
 from ..bodies import colliders
 from .arrays import StateArgs, WorldArgs, clear, upload, zeros
+from .forces import NUM_SPRINGS
 from .grab import GRAB_FIRST, GRAB_VALUES, released
 from .materials import damping_table, friction_value
 
@@ -67,7 +68,10 @@ class Params:
         self.table = damping_table(config.integrator).reshape(-1) if colliders.uses_materials(config) else np.zeros(0)
         self.values = zeros(MATERIALS + MATERIAL_TABLE + len(self.table))
         self.planes = zeros(MAX_PLANES, "v4")
-        self.args = WorldArgs()(values=self.values, planes=self.planes)
+        # [[spring]] rows (rigid.bodies.springs.Spring.row), set by the Simulator once the bodies are placed.
+        self.spring_rows = np.zeros((0, 16))
+        self.springs = zeros(max(len(getattr(config, "springs", ())), 1), "v16")
+        self.args = WorldArgs()(values=self.values, planes=self.planes, springs=self.springs)
         self._loading = True
         self.grab_values = released()  # the mouse's spring (grab.py): kept across loads and uploads
         self.load(config)
@@ -100,6 +104,13 @@ class Params:
             if not getattr(self, "_loading", True):
                 self.upload()
 
+    def set_springs(self, rows) -> None:
+        """The scene's springs (rigid.bodies.springs.Spring.row each), for the kernels."""
+        self.spring_rows = np.asarray(rows, np.float64).reshape(-1, 16)
+        if len(self.spring_rows):
+            upload(self.springs, self.spring_rows)
+        self.upload()
+
     def plane_list(self) -> np.ndarray:
         """The static planes (n, 4): normal (into the free side) and offset n·p, in force order."""
         extra = np.array(getattr(self, "extra_planes", []), np.float64).reshape(-1, 4)
@@ -118,6 +129,7 @@ class Params:
                                                       self.velocity_damping_stiffness, self.friction_stiffness)
         values[GX:GZ + 1] = self.gravity
         values[NUM_PLANES] = len(planes)
+        values[NUM_SPRINGS] = len(self.spring_rows)
         values[GRAB_FIRST:GRAB_FIRST + GRAB_VALUES] = self.grab_values
         values[SLEEP_SPEED] = self.sleep_speed if self.sleep else 0.0
         values[SLEEP_STEPS] = max(1, round(self.sleep_time / self.dt))

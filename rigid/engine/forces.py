@@ -1,0 +1,108 @@
+"""The external forces: the one place where a force that is not contact enters the substep.
+
+Two seams, both summed through the student's TODO 3 (F += f) and TODO 4 (τ += r × f), so that
+P and L change exactly by what the forces impart:
+
+- ``particle_force``: a term on every particle, added where its gravity (TODO 2) and contacts are
+  (stages.py and material_stages.py call it in their particle loops). Today: linear drag.
+      drag      f = −c vᵢ          c: the body's ``drag`` (model.body_material[b][3]), N s/m
+- ``point_wrench``: forces at chosen points of a body, added to its F and τ once per force
+  evaluation, with its first block's sums (stages.py, material_stages.py), so that every body's
+  are computed from the same state, before any body is updated. Today:
+      the grab  f = k (target − p) − c v_p at the held particle (grab.py: the window's mouse)
+      springs   f = (k (|d| − l0) + c (v_b − v_a)·n) n between two bodies' points, or a body's
+                and a world point (rigid.bodies.springs; rows in ``world.springs``)
+
+A new force is one more term in one of these two functions (and its parameters in the model or
+the world's values); no schedule, stage or kernel changes.
+"""
+import taichi as ti
+
+from .grab import GRAB_C, GRAB_K, GRAB_SLOT, GRAB_TX
+from .matvec import body_offset, matvec
+
+NUM_SPRINGS = 10  # the slot of WorldArgs.values holding how many rows of world.springs are in use
+DRAG = 3  # the component of model.body_material holding the body's drag coefficient
+
+
+@ti.func
+def particle_force(model: ti.template(), b, pv):
+    """The external force on a particle of body b moving at ``pv`` (world, m/s): linear drag."""
+    return -model.body_material[b][DRAG] * pv
+
+
+@ti.func
+def _end(state: ti.template(), body, point):
+    """A spring's end: (world position, world velocity, body-frame offset) of ``point`` on ``body``
+    (−1: the world, where ``point`` is already a world point, at rest)."""
+    p = point
+    v = ti.Vector.zero(float, 3)
+    if body >= 0:
+        r = matvec(state.R[body], point)
+        p = state.x[body] + r
+        v = state.v[body] + state.omega[body].cross(r)
+    return p, v
+
+
+@ti.func
+def _spring_force(world: ti.template(), state: ti.template(), s):
+    """Spring s: the force on its first end (the second gets its opposite), and the ends' offsets."""
+    row = world.springs[s]
+    a, b = ti.cast(row[0], ti.i32), ti.cast(row[1], ti.i32)
+    ra = ti.Vector([row[2], row[3], row[4]])
+    rb = ti.Vector([row[5], row[6], row[7]])
+    pa, va = _end(state, a, ra)
+    pb, vb = _end(state, b, rb)
+    d = pb - pa
+    length = d.norm()
+    f = ti.Vector.zero(float, 3)
+    if length > 0:
+        n = d / length
+        f = (row[8] * (length - row[10]) + row[9] * (vb - va).dot(n)) * n
+    return a, b, ra, rb, pa, pb, f
+
+
+@ti.func
+def any_point_forces(world: ti.template()):
+    """Whether a force at a point acts at all (a grab held, a spring): else none is summed."""
+    return world.values[GRAB_SLOT] >= 0 or world.values[NUM_SPRINGS] > 0
+
+
+@ti.func
+def add_point_forces(u: ti.template(), model: ti.template(), state: ti.template(), world: ti.template(), b, k,
+                     F, tau):
+    """(F, τ) of block k of body b, with the body's forces at points added if k is its first block."""
+    F_out, tau_out = F, tau
+    if model.body_blocks[b][0] == k and any_point_forces(world):
+        F_points, tau_points = point_wrench(u, model, state, world, b)
+        F_out += F_points
+        tau_out += tau_points
+    return F_out, tau_out
+
+
+@ti.func
+def point_wrench(u: ti.template(), model: ti.template(), state: ti.template(), world: ti.template(), b):
+    """F and τ (about x) that the forces at points (the grab, springs) put on body b, through TODO 3 and 4."""
+    F = ti.Vector.zero(float, 3)
+    tau = ti.Vector.zero(float, 3)
+    x, R = state.x[b], state.R[b]
+    held = ti.cast(world.values[GRAB_SLOT], ti.i32)
+    if held >= 0:
+        if model.particle_body[held] == b:
+            r0 = body_offset(model, held)
+            r = matvec(R, r0)
+            target = ti.Vector([world.values[GRAB_TX], world.values[GRAB_TX + 1], world.values[GRAB_TX + 2]])
+            f = world.values[GRAB_K] * (target - (x + r)) - world.values[GRAB_C] * (state.v[b] + state.omega[b].cross(r))
+            F += u.total_force_term(f)
+            tau += u.torque_term(x + r, x, R, r0, f)
+    for s in range(ti.cast(world.values[NUM_SPRINGS], ti.i32)):  # in index order: the sums' order is fixed
+        row = world.springs[s]
+        if ti.cast(row[0], ti.i32) == b or ti.cast(row[1], ti.i32) == b:
+            a, _b, ra, rb, pa, pb, f = _spring_force(world, state, s)
+            if a == b:
+                F += u.total_force_term(f)
+                tau += u.torque_term(pa, x, R, ra, f)
+            else:
+                F += u.total_force_term(-f)
+                tau += u.torque_term(pb, x, R, rb, -f)
+    return F, tau
