@@ -28,10 +28,21 @@ import sys
 import time
 
 
+PROCESSES = 256  # threads and processes of a sandboxed child (Taichi's threads fit many times over)
+
+
 def apply_limits(memory_mb: int, file_mb: int) -> None:
-    """Hard limits the submission cannot raise again (soft = hard)."""
-    for limit, value in ((resource.RLIMIT_AS, memory_mb << 20), (resource.RLIMIT_FSIZE, file_mb << 20),
-                         (resource.RLIMIT_CORE, 0)):
+    """Hard limits the submission cannot raise again (soft = hard); in the sandbox as root, first the
+    unprivileged uid the parent chose (box.py: root ignores the process limit and reads every file)."""
+    uid = os.environ.pop("RIGID_CHILD_UID", None)
+    if uid is not None:
+        os.setgroups([])
+        os.setgid(int(uid))
+        os.setuid(int(uid))
+    limits = [(resource.RLIMIT_AS, memory_mb << 20), (resource.RLIMIT_FSIZE, file_mb << 20), (resource.RLIMIT_CORE, 0)]
+    if os.environ.get("RIGID_SANDBOXED"):  # counted per box there; outside, it would count all the TA's processes
+        limits.append((resource.RLIMIT_NPROC, PROCESSES))
+    for limit, value in limits:
         resource.setrlimit(limit, (value, value))
 
 
@@ -103,18 +114,23 @@ def main(argv=None):
     WRITE_CACHE[0] = args.write_cache or bool(args.make_expected)
     if args.make_expected:
         make_expected(events, args.reference, args.make_expected)
+    from . import attempts
     if args.format == "original":
         from .expected import Expected
         from .original.child import grade
 
         grade(events, args.submission, Expected(args.expected), todos, args.per_todo_trajectories,
-              json.loads(args.renames))
+              json.loads(args.renames), watch=lambda: attempts.install(events, (args.reference, args.expected)))
         finish(events)
 
     events.emit(phase="import")
     from .loader import import_submission, isolate_syntax_errors
 
     submission, syntax_errors = isolate_syntax_errors(args.submission)
+    import numpy  # noqa: F401  (loaded before the hook: what they do at import is not the submission's)
+    import taichi  # noqa: F401
+
+    attempts.install(events, (args.reference, args.expected))
     module, problem = import_submission(submission, args.memory_mb)
     if problem:
         events.emit(event="import_failed", message=problem)

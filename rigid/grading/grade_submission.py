@@ -36,6 +36,7 @@ class Settings:
     limits: Limits = field(default_factory=Limits)
     format: str = "auto"  # "project", "original" (the course's handout), or "auto": detect per submission
     warm_cache_original: Path | None = None  # the original format's, from the course's handout (original/warm.py)
+    sandbox: object = None  # a box.Box each child runs in, or None (not contained)
 
 
 def grade_submission(name: str, source: bytes | None, settings: Settings, problem: str = "",
@@ -77,7 +78,8 @@ def grade_submission(name: str, source: bytes | None, settings: Settings, proble
                     "--expected", settings.expected, "--todos", ",".join(map(str, remaining)), *extra]
             args += ["--write-cache"] if cache_out is not None else []  # only a trusted run's cache is kept
             run = run_child(args + (["--per-todo-trajectories"] if per_todo else []), box,
-                            Path(tmp) / f"events{attempt}.jsonl", settings.limits)
+                            Path(tmp) / f"events{attempt}.jsonl", settings.limits, settings.sandbox,
+                            (settings.reference, settings.expected))
             seconds += run.seconds
             output = "".join(line for line in run.output.splitlines(keepends=True)
                              if not line.startswith("[Taichi] Starting on arch"))

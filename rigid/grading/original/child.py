@@ -57,8 +57,9 @@ def perturbed_label(params: dict) -> str:
     return ", ".join(parts)
 
 
-def grade(events, path, expected, todos, per_todo=False, renames=None):
-    """Grade the file at ``path`` (the box is its folder); ``expected``: an expected.Expected."""
+def grade(events, path, expected, todos, per_todo=False, renames=None, watch=None):
+    """Grade the file at ``path`` (the box is its folder); ``expected``: an expected.Expected.
+    ``watch()`` is called just before the file's code first runs (attempts.install)."""
     events.emit(phase="import")
     path = Path(path)
     try:
@@ -75,6 +76,8 @@ def grade(events, path, expected, todos, per_todo=False, renames=None):
     unparsable = {k: _syntax_error(model, k) for k in todos if k in model.regions}
     extra = [line for k in todos if k in model.regions and not unparsable[k] for line in harness.kernel(k, model)]
     variant = model.build(extra=extra)
+    if watch:
+        watch()
     first = run(variant, folder / "reference_harness.py")
     for note in first.notes:
         events.emit(event="note", message=note)
