@@ -48,6 +48,9 @@ def grade_submission(name: str, source: bytes | None, settings: Settings, proble
     """
     todos = {k: None for k in TODOS}  # k -> (passed, message) once decided
     seconds, output, notes = 0.0, "", []
+    if source is not None and not problem:
+        problem = _empty(source)
+        source = None if problem else source
     if source is None:
         for k in todos:
             todos[k] = (False, f"TODO {k}: not graded — {problem}")
@@ -92,6 +95,16 @@ def grade_submission(name: str, source: bytes | None, settings: Settings, proble
             if v is None:
                 todos[k] = (False, f"TODO {k}: not graded — the submission crashed the grader too often")
     return _result(name, todos, settings, seconds, output, fmt, notes)
+
+
+def _empty(source: bytes) -> str:
+    """Why a file holds nothing to grade ('' when it holds code)."""
+    lines = [line.strip() for line in source.decode("utf-8", errors="replace").splitlines()]
+    if not any(lines):
+        return "the file is empty"
+    if all(not line or line.startswith("#") for line in lines):
+        return "the file holds only comments, no code"
+    return ""
 
 
 def _interpret(run, remaining, limits, per_todo, fmt="project"):
