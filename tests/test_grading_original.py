@@ -147,13 +147,18 @@ def test_versions_keep_everything_outside_the_todos():
     assert reference.student_line(line) is None and reference.student_line(1) == 1
 
 
-def test_meshes_from_the_submission_the_assets_or_ours_with_a_note():
-    files, renames, notes = plan('read_obj_file("sphere.obj", scale=0.3)')
-    assert files == {"sphere.obj": SPHERE} and not renames and not notes
+def test_meshes_from_the_submission_the_handout_or_ours_with_a_note(tmp_path):
+    files, renames, notes = plan('read_obj_file("sphere.obj", scale=0.3)')  # issue 52: never silently ours
+    assert files == {"sphere.obj": SPHERE} and not renames
+    assert notes == ["the file reads sphere.obj, which the submission does not include: graded with the project's "
+                     "sphere.obj (its 42-vertex icosphere has the handout's vertex and face counts but other "
+                     "coordinates and orientation, so spins and bonus figures can differ from the student's run)"]
+    (tmp_path / "sphere.obj").write_bytes(b"v 1 2 3\n")  # the handout's own mesh, beside --original-handout
+    assert plan('read_obj_file("sphere.obj")', {}, tmp_path) == ({"sphere.obj": b"v 1 2 3\n"}, {}, [])
     files, _, notes = plan("read_obj_file('bunny.obj')", {"bunny.obj": b"v 0 0 0\n"})
     assert files == {"bunny.obj": b"v 0 0 0\n"} and not notes
     files, _, notes = plan("read_obj_file('teapot.obj')")
-    assert files == {"teapot.obj": SPHERE} and "teapot.obj" in notes[0] and "42-vertex sphere.obj" in notes[0]
+    assert files == {"teapot.obj": SPHERE} and "teapot.obj" in notes[0] and "project's sphere.obj (its 42-vertex" in notes[0]
     files, renames, _ = plan(r"read_obj_file('C:\Users\amy\sphere.obj')")
     assert renames == {r"C:\Users\amy\sphere.obj": "sphere.obj"} and files == {"sphere.obj": SPHERE}
     files, renames, _ = plan("read_obj_file('/home/amy/../x/box.obj')")

@@ -131,6 +131,7 @@ def _run(args) -> int:
     settings.points = points
     settings.format = args.format
     settings.sandbox = sandbox
+    settings.handout_folder = handout.resolve().parent if handout is not None else None
     print(report.points_line(points))
     n = len(submissions)
 

@@ -37,6 +37,7 @@ class Settings:
     format: str = "auto"  # "project", "original" (the course's handout), or "auto": detect per submission
     warm_cache_original: Path | None = None  # the original format's, from the course's handout (original/warm.py)
     sandbox: object = None  # a box.Box each child runs in, or None (not contained)
+    handout_folder: Path | None = None  # the course's handout's folder: its meshes stand in for missing ones
 
 
 def grade_submission(name: str, source: bytes | None, settings: Settings, problem: str = "",
@@ -63,7 +64,7 @@ def grade_submission(name: str, source: bytes | None, settings: Settings, proble
         (box / "rigid_body_dynamic.py").write_bytes(source)
         extra = []
         if fmt == "original":
-            files, renames, notes = plan(text, meshes)
+            files, renames, notes = plan(text, meshes, settings.handout_folder)
             for relative, data in files.items():
                 (box / relative).parent.mkdir(parents=True, exist_ok=True)
                 (box / relative).write_bytes(data)
