@@ -129,7 +129,7 @@ WRONG = {
     "t1_no_mass": {1: ["mass"]}, "t2_no_mass": {2: ["mass"]}, "t3_sign": {3: ["sign"]},
     "t4_swapped_cross": {4: ["cross product"]}, "t5_no_dt": {5: ["does not depend on Δt"]},
     "t6_no_half": {6: ["twice the expected rate"]}, "t7_order": {7: ["order"]},
-    "t1_outer_plus_mass_identity": {1: ["differs", "expected"]},
+    "t1_outer_plus_mass_identity": {1: ["the sign of the r0 r0ᵀ term", "extra identity term (the body's mass M"]},
     "t3_extra_mass": {3: ["factor of the mass"]},
     "t7_drops_old_L": {7: ["lacks the old L"]},
     "t7_unrotated": {7: ["body-frame I0⁻¹"]},

@@ -105,6 +105,7 @@ def main(argv=None):
     p.add_argument("--format", choices=("project", "original"), default="project",  # original.detect.FORMATS
                    help="project: the TODO functions of rigid_body_dynamic.py; original: the course's "
                         "module-level script (original/)")
+    p.add_argument("--file-name", default="the submitted file", help="the student's file name, for messages")
     p.add_argument("--renames", default="{}", metavar="JSON",
                    help="original format: {quoted path in the file: path to read instead} (meshes)")
     args = p.parse_args(argv)
@@ -118,7 +119,9 @@ def main(argv=None):
     if args.format == "original":
         from .expected import Expected
         from .original.child import grade
+        from .original.runner import FILE_NAME
 
+        FILE_NAME[0] = args.file_name
         grade(events, args.submission, Expected(args.expected), todos, args.per_todo_trajectories,
               json.loads(args.renames), watch=lambda: attempts.install(events, (args.reference, args.expected)))
         finish(events)

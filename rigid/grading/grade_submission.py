@@ -17,7 +17,7 @@ import shutil
 import signal
 import tempfile
 from dataclasses import dataclass, field
-from pathlib import Path
+from pathlib import Path, PurePath
 
 from .original.detect import detect
 from .original.meshes import plan
@@ -41,11 +41,12 @@ class Settings:
 
 
 def grade_submission(name: str, source: bytes | None, settings: Settings, problem: str = "",
-                     cache_out: Path | None = None, meshes: dict | None = None) -> dict:
+                     cache_out: Path | None = None, meshes: dict | None = None, file_name: str = "") -> dict:
     """Grade the file content ``source``; ``problem`` (no source) fails every TODO with that reason.
 
     ``cache_out``: copy the child's Taichi cache there afterwards (only for trusted code: the warm-up).
     ``meshes``: mesh files of the submission by name (a file in the original format may read one).
+    ``file_name``: the file as the student named it, for messages (default: ``name``'s last part).
     """
     todos = {k: None for k in TODOS}  # k -> (passed, message) once decided
     seconds, output, notes = 0.0, "", []
@@ -68,7 +69,8 @@ def grade_submission(name: str, source: bytes | None, settings: Settings, proble
             for relative, data in files.items():
                 (box / relative).parent.mkdir(parents=True, exist_ok=True)
                 (box / relative).write_bytes(data)
-            extra = ["--format", "original", f"--renames={json.dumps(renames)}"]
+            extra = ["--format", "original", f"--renames={json.dumps(renames)}",
+                     f"--file-name={file_name or PurePath(name).name}"]
         warm = settings.warm_cache_original if fmt == "original" and settings.warm_cache_original else \
             settings.warm_cache
         if warm and warm.is_dir():

@@ -18,6 +18,7 @@ import re
 import numpy as np
 
 from ..checks import judge
+from ..diagnose import close
 from . import given, harness
 from .attribution import Attribution, check_simulations
 from .regions import RegionError
@@ -162,5 +163,12 @@ def _direct(k, model, module, variant, folder, particles, expected) -> dict:
     except Exception as err:  # a compile error in the student's region
         return dict(passed=False, message=f"TODO {k}: {where} does not compile or run: "
                                           f"{describe(err, variant, folder / 'reference_harness.py')}")
-    return judge(spec, sub, inputs, expected.direct(k),
-                 not_done=f"{where} leaves its result zero or unchanged")
+    answers = expected.direct(k)
+    result = judge(spec, sub, inputs, answers, not_done=f"{where} leaves its result zero or unchanged")
+    if k == 2 and not result["passed"] and any(close(sub["f"] - harness.leftover_force(len(sub["f"])), ref["f"])
+                                               for ref in answers.values()):
+        # it adds m g to the force already there: right only if the file resets the force elsewhere
+        return dict(passed=True, accumulates=True, form=next(iter(answers)),
+                    message=f"TODO 2: adds m g to the particle's force (`+=`), right where something resets "
+                            f"that force every substep")
+    return result
