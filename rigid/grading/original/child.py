@@ -83,8 +83,7 @@ def grade(events, path, expected, todos, per_todo=False, renames=None, watch=Non
     for note in first.notes:
         events.emit(event="note", message=note)
     if first.rows is None:
-        events.emit(event="import_failed", message=f"the file does not run even with the reference code in its "
-                                                   f"TODOs: {first.error}")
+        events.emit(event="import_failed", message=_does_not_run(model, folder, first.error))
         return
     events.emit(phase="setup")
     particles = int(first.module.particle_vertices.shape[0])
@@ -107,6 +106,16 @@ def grade(events, path, expected, todos, per_todo=False, renames=None, watch=Non
     check_simulations(events, attribution, results, per_todo)
     if model.bonus and set(todos) == set(range(1, 8)):  # once per file: the first child grades all seven
         events.emit(event="note", message=bonus_note(events, model, folder))
+
+
+def _does_not_run(model, folder, error: str) -> str:
+    """Why nothing can be graded when the file with the reference lines fails: said of the student's file
+    only when the student's own file fails too (else the grader's version is at fault: a TA grades it)."""
+    own = run(model.build(range(1, 8)), folder / "as_submitted.py")
+    if own.rows is None:
+        return f"the file does not run: {own.error}"
+    return (f"the file runs as submitted, but not with the grader's reference lines in its TODOs ({error}); "
+            f"the grader cannot compare its TODOs: grade it by hand")
 
 
 def bonus_note(events, model, folder) -> str:
