@@ -169,7 +169,7 @@ NOTES = {
 COMBINED = {
     "unknown_mistakes_given_edits": ("t1_outer_plus_mass_identity", "t2_accumulates", "t3_extra_mass", "t7_drops_old_L",
                                      "given_edits"),
-    "marker_syntax_unrotated": ("missing_marker_3", "syntax_error_todo4", "t7_unrotated"),
+    "marker_syntax_unrotated": ("missing_marker_3", "no_markers", "syntax_error_todo4", "t7_unrotated"),
 }
 for _name, _parts in COMBINED.items():
     SUBSTITUTIONS[_name] = ("solved", {old: new for part in _parts for old, new in SUBSTITUTIONS[part][1].items()})

@@ -156,12 +156,19 @@ def _syntax_error(model, k) -> str:
         ast.parse(f"for _ in ():\n{body}    pass\n")
     except SyntaxError as err:
         line = region.start + (err.lineno or 1) - 1
-        return f"the code under '# TODO {k}:' has a syntax error at line {line}: {err.msg}"
+        return f"{_where(region)} has a syntax error at line {line}: {err.msg}"
     return ""
 
 
+def _where(region) -> str:
+    """The region in a message: by its comment, or by its lines when align.py found it without one."""
+    if region.marker_text:
+        return f"the code under '# TODO {region.k}:'"
+    return f"TODO {region.k}'s code (lines {region.start + 1}-{max(region.end, region.start + 1)})"
+
+
 def _direct(k, model, module, variant, folder, particles, expected) -> dict:
-    where = f"the code under '# TODO {k}:'"
+    where = _where(model.regions[k])
     blocked = harness.blocked_by(model.reference_text, model.regions[k].code(model.text.splitlines()))
     if blocked:
         return dict(passed=True, simulation_only=True,
