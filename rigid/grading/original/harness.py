@@ -169,6 +169,9 @@ def evaluate(k: int, module, particles: int) -> tuple:
     elif k == 7:
         sub = {"L_new": _kept(out[:, :3], d["L"]), "omega": out[:, 3:]}
         spec = replace(spec, outputs=tuple(o for o in spec.outputs if o[0] != "I_inv"))
+    elif k == 2:  # the force left as it was (the handout's placeholder) reads as not done
+        left = leftover_force(len(out))
+        sub = {"f": np.where(np.all(out == left.astype(np.float32), axis=1, keepdims=True), 0.0, out)}
     else:
         sub = {spec.outputs[0][0]: out}
     labels = {1: "the inertia tensor", 3: "the total force"}
