@@ -11,12 +11,16 @@ submissions with --jobs 1 and --jobs 2. Then the course's original handout
 format (--original, default on): the real handout's shape solved, unsolved, a
 one-TODO mistake and a file with bonus terms (tests/data/original_handout/ and
 the variants of tests/grading_original_variants.py), one at a time, and the
-seconds per file of a batch of them with --jobs 2. Prints the figures;
-asserts nothing.
+seconds per file of a batch of them with --jobs 2. Each figure comes with the
+CPU seconds of the grading processes (the grader and every child it waited
+for): on a machine shared with other work the wall time grows, the CPU time
+much less, and CPU seconds / cores is the wall time an idle machine would take.
+Prints the figures; asserts nothing.
 """
 import argparse
 import json
 import os
+import resource
 import subprocess
 import sys
 import tempfile
@@ -40,13 +44,22 @@ VARIANTS = {
 }
 
 
+def children_cpu() -> float:
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
+
+
+LAST_CPU = [0.0]  # CPU seconds of the last grade() call's processes
+
+
 def grade(paths, cache, jobs, out):
-    start = time.monotonic()
+    start, cpu = time.monotonic(), children_cpu()
     proc = subprocess.run([sys.executable, str(ROOT / "scripts" / "grade.py"), *map(str, paths), "--jobs",
                            str(jobs), "--cache-dir", str(cache), "--json", str(out)],
                           capture_output=True, text=True)
     if proc.returncode:
         sys.exit(proc.stderr)
+    LAST_CPU[0] = children_cpu() - cpu
     return time.monotonic() - start, json.loads(Path(out).read_text())
 
 
@@ -88,7 +101,8 @@ def main():
                                                                   f"force = {i + 2} * particle_mass * gravity"))
         for jobs in (1, 2):
             wall, _ = grade([batch], cache, jobs, tmp / "c.json")
-            print(f"batch of {args.copies} (--jobs {jobs}): {wall:.1f} s, {wall / args.copies:.2f} s per submission")
+            print(f"batch of {args.copies} (--jobs {jobs}): {wall:.1f} s, {wall / args.copies:.2f} s per submission; "
+                  f"{LAST_CPU[0] / args.copies:.2f} CPU-s per submission")
 
 
 def bench_original(tmp, cache):
@@ -99,9 +113,12 @@ def bench_original(tmp, cache):
     for name, text in texts.items():
         (folder / f"{name}.py").write_text(text)
         wall, (r,) = grade([folder / f"{name}.py"], cache, 1, tmp / "o.json")
-        print(f"  {name:26s} {r['total']:>3g}/90  {r['seconds']:5.1f} s  (whole command {wall:.1f} s)")
+        print(f"  {name:26s} {r['total']:>3g}/90  {r['seconds']:5.1f} s  (whole command {wall:.1f} s, "
+              f"{LAST_CPU[0]:.1f} CPU-s)")
     wall, results = grade([folder], cache, 2, tmp / "o.json")
-    print(f"  batch of {len(results)} (--jobs 2): {wall:.1f} s, {wall / len(results):.2f} s per file")
+    n, cores = len(results), min(2, os.cpu_count() or 1)
+    print(f"  batch of {n} (--jobs 2): {wall:.1f} s, {wall / n:.2f} s per file; {LAST_CPU[0]:.1f} CPU-s, "
+          f"{LAST_CPU[0] / n:.2f} CPU-s per file ({LAST_CPU[0] / n / cores:.2f} s per file on {cores} idle cores)")
 
 
 if __name__ == "__main__":
