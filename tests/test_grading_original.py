@@ -286,3 +286,22 @@ def test_a_wrong_original_handout_is_refused_in_one_line(tmp_path, content, word
     with pytest.raises(UserError) as err:
         prepare_original(None, path)
     assert words in str(err.value) and "\n" not in str(err.value) and str(path) in str(err.value)
+
+
+def test_does_not_run_is_said_only_when_the_students_own_file_fails(monkeypatch, tmp_path):
+    import numpy as np
+    from rigid.grading.original import child
+    from rigid.grading.original.runner import Run
+
+    model = FileModel(make("no_markers").replace("        is_in_contact = False\n", "        is_in_contact, n = False, 0\n"))
+    assert model.kept[2] == (["        is_in_contact, n = False, 0\n"], [])  # a tuple of locals stays too
+    runs = []
+    monkeypatch.setattr(child, "run", lambda variant, path: runs.append(variant.text) or own)
+    own = Run(np.zeros((31, 16)))
+    message = child._does_not_run(model, tmp_path, "TaichiNameError: Name \"x\" is not defined (line 150)")
+    assert message.startswith("the file runs as submitted, but not with the grader's reference lines in its TODOs "
+                              "(TaichiNameError") and message.endswith("grade it by hand")
+    assert runs == [model.build(range(1, 8)).text]  # the student's own code in every TODO
+    own = Run(None, "ZeroDivisionError: division by zero (x.py, line 12)")
+    assert child._does_not_run(model, tmp_path, "…") == "the file does not run: ZeroDivisionError: division by " \
+                                                         "zero (x.py, line 12)"

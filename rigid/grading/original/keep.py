@@ -4,7 +4,7 @@ A region holds the TODO's own work and sometimes a line the rest of the file nee
 ``is_in_contact = False`` under ``# TODO 2``, read by the given collision code after it; TODO 6's
 ``w = body_angular_velocity[None]`` written under ``# TODO 5``. Swapping the whole region out would
 make the file fail (a name not defined) where the student's own file runs. ``kept(...)`` returns the
-region's top-level simple assignments of a local (``name = ...``) that code after the region in the
+region's top-level simple assignments of locals (``name = ...``, ``a, b = ...``) that code after the region in the
 same kernel reads, with the assignments they read in turn, split into those before the region's
 first other statement and those after it (the replacement goes between, so each keeps its order).
 The TODO's result itself is never kept: augmented assignments, writes of fields, the local the TODO
@@ -14,7 +14,7 @@ import re
 
 from .scan import indent_of
 
-SIMPLE = re.compile(r"^\s*(?P<name>[A-Za-z_]\w*)\s*(:[^=]+)?=(?!=)(?P<value>.*)$", re.DOTALL)
+SIMPLE = re.compile(r"^\s*(?P<names>[A-Za-z_]\w*(\s*,\s*[A-Za-z_]\w*)*)\s*(:[^=]+)?=(?!=)(?P<value>.*)$", re.DOTALL)
 IDENT = re.compile(r"(?<![.\w])[A-Za-z_]\w*")
 
 
@@ -45,7 +45,8 @@ def kept(region, lines, cont) -> tuple:
     needed, keep = set(after), set()
     for i in range(len(statements) - 1, -1, -1):
         m = SIMPLE.match(statements[i][2])  # never a compound statement: "for ...:" or "if ...:" do not match
-        if m and m["name"] in needed and m["name"] not in off_limits:
+        names = set(re.split(r"\s*,\s*", m["names"].strip())) if m else set()
+        if names & needed and not names & off_limits:
             keep.add(i)
             needed |= set(IDENT.findall(_code(m["value"])))
     if not keep:
