@@ -159,3 +159,13 @@ def test_without_bwrap_a_loud_warning_and_require_sandbox_refuses(tmp_path):
     assert graded.stderr.count("WARNING: submissions are NOT contained") == 1
     assert "TODOs 1-7: not graded — the file is empty" in graded.stdout  # item 5: an empty file, not graded, listed
     assert f"Not graded at all: 1\n  {empty}: the file is empty" in graded.stdout
+
+
+@needs_bwrap
+def test_a_box_that_cannot_start_is_the_graders_trouble_not_the_students(tmp_path):
+    from rigid.grading.sandbox import Limits, run_child
+
+    box = tmp_path / "box"
+    box.mkdir()
+    with pytest.raises(RuntimeError, match="bwrap could not start the box: .*nowhere"):
+        run_child(["--todos", "1"], box, tmp_path / "events.jsonl", Limits(), BOX, [tmp_path / "nowhere"])

@@ -31,7 +31,9 @@ from ..config import REPO_ROOT
 
 ETC = ("ld.so.cache", "ld.so.conf", "ld.so.conf.d", "localtime", "passwd", "group", "nsswitch.conf",
        "alternatives", "hosts", "resolv.conf")  # what the dynamic loader, Python and Taichi may read
-FIRST_UID = 61000  # uids of children when the grader is root: one per child alive, none in /etc/passwd
+# uids of children when the grader is root: far above users', systemd's (61184-65519) and the usual
+# subordinate ranges of containers (100000 up); 64 a grader process (its pid picks them), one a child alive
+FIRST_UID = 1_900_000_000
 _uids = itertools.count()
 _lock = threading.Lock()
 
@@ -58,7 +60,7 @@ class Box:
         args += _folders([*map(Path, readable), *map(Path, writable), Path(box)], python_roots())
         if self.root:
             with _lock:
-                uid = FIRST_UID + next(_uids) % 4000
+                uid = FIRST_UID + 64 * (os.getpid() % 10000) + next(_uids) % 64
             _chown_tree(Path(box), uid)
             for path in writable:
                 os.chown(path, uid, uid)
@@ -69,6 +71,7 @@ class Box:
             args += ["--bind", str(path), str(path)]
         args += ["--bind", str(box), str(box), "--chdir", str(box), "--"]
         return args + command, env
+
 
 def _system() -> list:
     """Read-only binds of the system and of Python, as this process sees them."""

@@ -149,6 +149,10 @@ def run_child(args: list, box: Path, events_path: Path, limits: Limits, sandbox=
     proc.wait()
     drain.join(timeout=5)
     reader.poll()
+    if sandbox is not None and not reader.events and not timed_out:
+        # the box or Python in it failed before the child wrote a line: the grader's trouble, not the submission's
+        last = (drain.text().strip().splitlines() or [f"exit code {proc.returncode}"])[-1]
+        raise RuntimeError(f"bwrap could not start the box: {last}")
     code = proc.returncode
     if sandbox is not None and code > 128:  # bwrap reports a child killed by signal N as 128 + N
         code = 128 - code
