@@ -115,7 +115,8 @@ def main(argv=None):
     WRITE_CACHE[0] = args.write_cache or bool(args.make_expected)
     if args.make_expected:
         make_expected(events, args.reference, args.make_expected)
-    from . import attempts
+    from . import attempts  # its hook goes in just before the submission's code first runs
+
     if args.format == "original":
         from .expected import Expected
         from .original.child import grade
