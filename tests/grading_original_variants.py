@@ -156,8 +156,8 @@ NOTES = {
     "bonus_inside": ["bonus", "air_drag", "linear_damping", "velocity_damping_stiffness"],
     "given_edits": ["given code", "substeps", "edits of the given code (they cost nothing: the grader runs them in "
                     "every version it compares): in the simulation (they change the physics): line 158: f_collision"],
-    "missing_marker_3": ["TODO 3: no '# TODO 3:' comment; its code was found by its place"],
-    "no_markers": ["TODO 1: no '# TODO 1:' comment", "TODO 7: no '# TODO 7:' comment"],
+    "missing_marker_3": ["TODO comments missing (TODO", "found by", "TODO 3: lines"],
+    "no_markers": ["TODO comments missing (TODOs 1, 2, 3, 4, 5, 6, 7)"],
     "bonus_friction": ["my_bunny.obj"],
 }
 # Files that carry several of the variants above at once, in TODOs (or given code) of their own, as

@@ -95,10 +95,13 @@ def test_lost_reworded_or_deleted_markers_are_found_by_the_given_code_and_a_stud
     model = FileModel(make("missing_marker_3"))
     assert not model.problems and code_of(model, 3) == SOLVED_CODE[3]
     assert code_of(model, 4) == SOLVED_CODE[4] and code_of(model, 2) == SOLVED_CODE[2]
-    assert model.notes == ["TODO 3: no '# TODO 3:' comment; its code was found by its place among the handout's "
-                           "given code (lines 173-174)"]
+    assert model.notes == ["TODO comments missing (TODO 3): found by its place among the handout's given code "
+                           "(TODO 3: lines 173-174)"]
     bare = FileModel(make("no_markers"))  # every comment gone or reworded (issue 52: 0/90 before)
-    assert not bare.problems and len(bare.notes) == 7
+    assert not bare.problems and bare.notes == [
+        "TODO comments missing (TODOs 1, 2, 3, 4, 5, 6, 7): found by their place among the handout's given code "
+        "(TODO 1: lines 98-101; TODO 2: lines 148-151; TODO 3: lines 176-177; TODO 4: lines 182-185; "
+        "TODO 5: lines 191-192; TODO 6: lines 196-198; TODO 7: lines 208-210)"]
     assert code_of(bare, 2) == ["is_in_contact = False"] + SOLVED_CODE[2]
     for k in (1, 3, 4, 5):
         assert code_of(bare, k) == SOLVED_CODE[k], k

@@ -164,7 +164,7 @@ def _where(region) -> str:
     """The region in a message: by its comment, or by its lines when align.py found it without one."""
     if region.marker_text:
         return f"the code under '# TODO {region.k}:'"
-    return f"TODO {region.k}'s code (lines {region.start + 1}-{max(region.end, region.start + 1)})"
+    return f"TODO {region.k}'s code ({region.where()})"
 
 
 def _direct(k, model, module, variant, folder, particles, expected) -> dict:

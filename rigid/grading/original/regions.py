@@ -65,6 +65,10 @@ class Region:
     def level(self) -> int:
         return indent_of(self.indent)
 
+    def where(self) -> str:
+        """Its lines, for a message: 'lines 98-101', or 'empty, at line 147'."""
+        return f"lines {self.start + 1}-{self.end}" if self.end > self.start else f"empty, at line {self.start + 1}"
+
     def code(self, lines) -> list:
         return lines[self.start:self.end]
 
@@ -128,14 +132,19 @@ def find_regions_with_notes(text: str) -> tuple:
         except RegionError as err:
             problems[k] = str(err)
     lost = [k for k in problems if k not in markers and problems[k].startswith("no '# TODO")]
+    placed = []
     for k, (i, indent, limit) in virtual_markers(lines, cont, functions, lost).items():
         try:
             regions[k] = _region(k, i, lines, functions, cont, set(markers), indent, limit)
         except RegionError:
             continue
         del problems[k]
-        notes.append(f"TODO {k}: no '# TODO {k}:' comment; its code was found by its place among the handout's "
-                     f"given code (lines {regions[k].start + 1}-{max(regions[k].end, regions[k].start + 1)})")
+        placed.append(k)
+    if placed:
+        ks = ", ".join(map(str, sorted(placed)))
+        notes.append(f"TODO comments missing (TODO{'s' if len(placed) > 1 else ''} {ks}): found by "
+                     f"{'their' if len(placed) > 1 else 'its'} place among the handout's given code ("
+                     + "; ".join(f"TODO {k}: {regions[k].where()}" for k in sorted(placed)) + ")")
     regions = {k: r for k, r in regions.items() if k not in problems}
     if not regions:
         raise RegionError(problems[min(problems)])
