@@ -168,6 +168,10 @@ def test_bonus_parameters_are_zero_in_every_version_and_edits_of_given_code_are_
     for words in ("ti.init(arch=ti.cpu, debug=False)", "substeps = int(1 / 120 // dt)", "(640, 640)",
                   "body_angular_velocity[None].cross(ri)"):
         assert words in note, words
+    physics, _, elsewhere = note.partition("; elsewhere: ")  # the wall's sign error first, the window after
+    assert "in the simulation (they change the physics): line 158: f_collision = collision_stiffness * " \
+           "(particle_vertices[i][0] + 1)" in physics and "substeps = int(1 / 120 // dt)" in physics
+    assert elsewhere.startswith("line 9: ti.init(arch=ti.cpu, debug=False)") and "(640, 640)" in elsewhere
     assert given.note(model.text, model.regions).count("line ") == 3  # friction (2 lines) and the body's damping
     assert given.note(SOLVED, FileModel(SOLVED).regions) == ""
 
