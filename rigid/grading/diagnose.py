@@ -6,8 +6,9 @@ the reference output over all calls (round-off, float32 literals and any
 equivalent algebra pass; every mistake we know differs by 1e-3 or more with
 the grader's masses and Δt). A wrong output is named by the first of: it
 follows from the submission's own other (wrong) outputs; a known mistake
-(mistakes.py); an inertia as a mix of its terms (inertia_words.py); generic tests (zero, unchanged, a constant, mass or Δt factor,
-right magnitude but wrong direction, wrong components).
+(mistakes.py); an inertia as a mix of its terms (inertia_words.py); generic tests
+(zero, unchanged, a constant, mass or Δt factor, right magnitude but wrong
+direction, wrong components).
 """
 import numpy as np
 
