@@ -112,6 +112,13 @@ def test_lost_reworded_or_deleted_markers_are_found_by_the_given_code_and_a_stud
     assert "        is_in_contact = False\n        particle_force[i] = particle_mass * ti.Vector([gravity" in reference
     assert "particle_force[i] = particle_mass * gravity\n" not in reference
     assert FileModel(SOLVED).kept == {k: ([], []) for k in range(1, 8)}
+    bare_text = make("no_markers")  # out of the handout's order: no place, so not graded rather than misread
+    merged = FileModel(bare_text.replace(SOLVED_CODE[4][0], "pass").replace(SOLVED_CODE[4][1], "").replace(
+        SOLVED_CODE[3][0], SOLVED_CODE[3][0] + "\n        " + SOLVED_CODE[4][1].replace("arm", "particle_vertices[i]")))
+    assert sorted(merged.problems) == [3, 4] and sorted(merged.regions) == [1, 2, 5, 6, 7]
+    five, six = "\n".join(f"    {line}" for line in SOLVED_CODE[5]), "    body_rotation_quaternion[None] += dt * d_q"
+    swapped = FileModel(bare_text.replace(five + "\n", "").replace(six, six + "\n" + five))
+    assert sorted(swapped.problems) == [5, 6] and "expected '# TODO 5: update the center" in swapped.problems[5]
 
 
 def test_tab_indented_code_gets_reference_lines_indented_like_it():

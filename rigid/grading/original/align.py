@@ -16,13 +16,14 @@ handout's two kernels:
 
 ``virtual_markers(...)`` returns, for each TODO asked, (the index of the line before its code,
 the indentation of its code, the line its region ends by at the latest), which regions.py reads as
-it reads a marker line; a TODO it cannot
+it reads a marker line. Where the student's code does not follow the handout's order (TODOs 3 and 4
+in one loop, TODO 6's update before TODO 5's) those TODOs are not placed. A TODO it cannot
 place is left out (it stays "not graded", with the message naming the comment expected).
 """
 import re
 
 from .given import HASHES, HASHES_2023, fingerprint
-from .handout_shape import ANCHORS, NORMALISE, WRITES
+from .handout_shape import ANCHORS, JOB, NORMALISE, WRITES
 from .scan import indent_of
 
 KNOWN = HASHES | HASHES_2023
@@ -101,8 +102,9 @@ def virtual_markers(lines, cont, functions, wanted) -> dict:
     collision = next((n for n, i in enumerate(loops) if any(ANCHORS[2].match(s.strip()) and s.strip().startswith("if")
                                                              for s in blocks[i][3])), None)
     if collision is not None:
-        ks = [2, 3, 4]
-        for n, k in enumerate(ks):
+        if collision + 1 < len(loops) and re.search(JOB[4], "\n".join(blocks[loops[collision + 1]][3][1:])):
+            wanted = [k for k in wanted if k not in (3, 4)]  # TODOs 3 and 4 in one loop: neither has its place
+        for n, k in enumerate((2, 3, 4)):
             if k in wanted and collision + n < len(loops):
                 out[k] = _loop_body(lines, cont, blocks[loops[collision + n]])
     last_loop = loops[collision + 2] if collision is not None and collision + 2 < len(loops) else None
@@ -112,6 +114,8 @@ def virtual_markers(lines, cont, functions, wanted) -> dict:
         between = range(last_loop + 1, normalise)
         writes5 = [i for i in between if any(WRITES[5].match(s.strip()) for s in blocks[i][3])]
         split = writes5[-1] + 1 if writes5 else last_loop + 1
+        if any(WRITES[6].match(s.strip()) for i in range(last_loop + 1, split) for s in blocks[i][3]):
+            wanted = [k for k in wanted if k not in (5, 6)]  # TODO 6's update before TODO 5's: no place for either
         if 5 in wanted:
             first5 = next((i for i in between if not _given(blocks[i])), split)
             out[5] = _place(blocks, min(first5, split), blocks[split][0] if split < len(blocks) else
