@@ -108,10 +108,12 @@ def _folders(bound: list, done: list) -> list:
 
 
 def python_roots() -> list:
-    """Python's installation, its site-packages and this package's code and meshes (real paths and the
-    paths as named, so a venv's links resolve inside the box)."""
+    """Python's installation, its site-packages (the user's too, where Python reads it) and this package's
+    code and meshes (real paths and the paths as named, so a venv's links resolve inside the box)."""
     named = [Path(sys.prefix), Path(sys.base_prefix), *map(Path, site.getsitepackages()),
              REPO_ROOT / "rigid", REPO_ROOT / "assets"]
+    if site.ENABLE_USER_SITE and site.getusersitepackages() in sys.path:  # taichi from pip install --user
+        named.append(Path(site.getusersitepackages()))
     out = []
     for path in named:
         for p in (path.absolute(), path.resolve()):
