@@ -22,7 +22,7 @@ from ..diagnose import close
 from . import given, harness
 from .attribution import Attribution, check_simulations
 from .regions import RegionError
-from .runner import COLUMNS, FRAMES, describe, run
+from .runner import COLUMNS, FILE_NAME, FRAMES, describe, run
 from .variants import FileModel
 
 
@@ -156,7 +156,7 @@ def _syntax_error(model, k) -> str:
         ast.parse(f"for _ in ():\n{body}    pass\n")
     except SyntaxError as err:
         line = region.start + (err.lineno or 1) - 1
-        return f"{_where(region)} has a syntax error at line {line}: {err.msg}"
+        return f"{_where(region)} has a syntax error at line {line} of {FILE_NAME[0]}: {err.msg}"
     return ""
 
 
