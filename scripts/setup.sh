@@ -32,7 +32,7 @@ apt_install() {  # apt_install PKG...: install what dpkg does not have; 1 where 
 }
 
 if command -v dpkg >/dev/null 2>&1; then
-  apt_install mesa-vulkan-drivers libvulkan1 xvfb xauth poppler-utils ||
+  apt_install mesa-vulkan-drivers libvulkan1 xvfb xauth poppler-utils bubblewrap ||
     echo "note: without them the window, its test and the report's font test are skipped" >&2
 else
   echo "note: no apt/dpkg; install a Vulkan driver (e.g. Mesa lavapipe) and Xvfb yourself for the window" >&2

@@ -38,6 +38,8 @@ M = {k: line for k, line in (  # the marker lines of solved.py
     (6, "    # TODO 6: update the rotation quaternion\n"),
     (7, "    # TODO 7: update, the angular momentum, inertia tensor and angular velocity\n"))}
 WINDOW = SOLVED[SOLVED.index("window = ti.ui.Window("):]
+WALL_LEFT = "            f_collision = collision_stiffness * (-1 - particle_vertices[i][0])\n"
+AFTER_WALLS = "\n    # computer the force for rigid body\n"
 WALL_FLOOR = ("            f_collision = collision_stiffness * (-1 - particle_vertices[i][1])\n"
               "            particle_force[i] += ti.Vector([0, f_collision, 0])\n")
 
@@ -83,13 +85,23 @@ SUBSTITUTIONS = {
                                        "    # update the rigid body\n",
         WALL_FLOOR: WALL_FLOOR + "            v_t = particle_velocities[i] - ti.Vector([0.0, particle_velocities[i][1], 0.0])\n"
                                  "            particle_force[i] -= friction_stiffness * f_collision * v_t\n"}),
-    "given_edits": ("solved", {  # edits of the given code cost nothing
+    "given_edits": ("solved", {  # edits of the given code cost nothing; the wall's sign error is listed first
         "ti.init(arch=ti.cpu, debug=True)": "ti.init(arch=ti.cpu, debug=False)",
+        WALL_LEFT: WALL_LEFT.replace("(-1 - particle_vertices[i][0])", "(particle_vertices[i][0] + 1)"),
         "substeps = int(1 / 60 // dt)": "substeps = int(1 / 120 // dt)",
         '(1024, 1024),\n                      vsync=True)': "(640, 640), vsync=True)",
         "        particle_velocities[i] = body_velocity[None] + ti.math.cross(body_angular_velocity[None], ri)\n":
             "        particle_velocities[i] = body_velocity[None] + body_angular_velocity[None].cross(ri)\n"}),
     "missing_marker_3": ("solved", {M[3]: ""}),
+    # unseen students' shapes (issue 52): every TODO comment deleted or reworded, a local of the student's
+    # under TODO 2 that the given collision code reads; all seven found by their place in the given code
+    "no_markers": ("solved", {
+        **{M[k]: "" for k in (1, 3, 4, 6, 7)}, M[2]: "        # gravity on each particle\n",
+        M[5]: "    # Task: move the centre of mass\n",
+        L2: "        is_in_contact = False\n" + L2, WALL_FLOOR: WALL_FLOOR + "            is_in_contact = True\n",
+        AFTER_WALLS: "        if is_in_contact:\n            particle_force[i] += 0.0 * particle_velocities[i]\n"
+                     + AFTER_WALLS}),
+    "t2_accumulates": ("solved", {L2: L2.replace("particle_force[i] =", "particle_force[i] +=")}),
     "syntax_error_todo4": ("solved", {L4: L4.replace("ti.math.cross(arm,", "ti.math..cross(arm,")}),
     # the grader's older fixtures, now in the handout's shape: other parameters, a mesh the file does not
     # include, its own local name for the total force, position-first TODO 5, friction outside the TODOs
@@ -129,19 +141,23 @@ WRONG = {
     "t1_no_mass": {1: ["mass"]}, "t2_no_mass": {2: ["mass"]}, "t3_sign": {3: ["sign"]},
     "t4_swapped_cross": {4: ["cross product"]}, "t5_no_dt": {5: ["does not depend on Δt"]},
     "t6_no_half": {6: ["twice the expected rate"]}, "t7_order": {7: ["order"]},
-    "t1_outer_plus_mass_identity": {1: ["differs", "expected"]},
+    "t1_outer_plus_mass_identity": {1: ["the sign of the r0 r0ᵀ term", "extra identity term (the body's mass M"]},
     "t3_extra_mass": {3: ["factor of the mass"]},
     "t7_drops_old_L": {7: ["lacks the old L"]},
     "t7_unrotated": {7: ["body-frame I0⁻¹"]},
-    "missing_marker_3": {3: ["no '# TODO 3:' line", "body_force = ti.Vector"]},
+    "t2_accumulates": {2: ["the force is accumulated across substeps", "assign, don't add"]},
     "syntax_error_todo4": {4: ["syntax error at line"]},
     "mistakes_a": {2: ["mass"], 4: ["cross product"], 6: ["twice the expected rate"]},
     "mistakes_b": {1: ["mass"], 3: ["sign"], 5: ["does not depend on Δt"], 7: ["order"]},
 }
-FULL = ("solved", "marker_variants", "layout", "black_formatted", "bonus_inside", "given_edits", "bonus_friction")
+FULL = ("solved", "marker_variants", "layout", "black_formatted", "bonus_inside", "given_edits", "bonus_friction",
+        "missing_marker_3", "no_markers")
 NOTES = {
     "bonus_inside": ["bonus", "air_drag", "linear_damping", "velocity_damping_stiffness"],
-    "given_edits": ["given code", "substeps"],
+    "given_edits": ["given code", "substeps", "edits of the given code (they cost nothing: the grader runs them in "
+                    "every version it compares): in the simulation (they change the physics): line 158: f_collision"],
+    "missing_marker_3": ["TODO comments missing (TODO", "found by", "TODO 3: lines"],
+    "no_markers": ["TODO comments missing (TODOs 1, 2, 3, 4, 5, 6, 7)"],
     "bonus_friction": ["my_bunny.obj"],
 }
 # Files that carry several of the variants above at once, in TODOs (or given code) of their own, as
@@ -151,8 +167,9 @@ NOTES = {
 # (The given-code note lists six edited lines, then "and N more": given_edits goes with mistakes in
 # TODOs, not with bonus_inside, whose floor friction is given code too.)
 COMBINED = {
-    "unknown_mistakes_given_edits": ("t1_outer_plus_mass_identity", "t3_extra_mass", "t7_drops_old_L", "given_edits"),
-    "marker_syntax_unrotated": ("missing_marker_3", "syntax_error_todo4", "t7_unrotated"),
+    "unknown_mistakes_given_edits": ("t1_outer_plus_mass_identity", "t2_accumulates", "t3_extra_mass", "t7_drops_old_L",
+                                     "given_edits"),
+    "marker_syntax_unrotated": ("missing_marker_3", "no_markers", "syntax_error_todo4", "t7_unrotated"),
 }
 for _name, _parts in COMBINED.items():
     SUBSTITUTIONS[_name] = ("solved", {old: new for part in _parts for old, new in SUBSTITUTIONS[part][1].items()})

@@ -91,12 +91,66 @@ def test_layout_inside_a_region_never_ends_it_early():
     assert given.note(black.text, black.regions) == ""  # black's reformatting is not an edit of the given code
 
 
-def test_a_lost_marker_or_a_syntax_error_cost_only_their_todo():
+def test_lost_reworded_or_deleted_markers_are_found_by_the_given_code_and_a_students_local_stays():
     model = FileModel(make("missing_marker_3"))
-    assert set(model.problems) == {3}
-    assert "no '# TODO 3:' line; expected '# TODO 3: compute the force for rigid body'" in model.problems[3]
-    assert "after `body_force = ti.Vector([0.0, 0.0, 0.0])`" in model.problems[3]
+    assert not model.problems and code_of(model, 3) == SOLVED_CODE[3]
     assert code_of(model, 4) == SOLVED_CODE[4] and code_of(model, 2) == SOLVED_CODE[2]
+    assert model.notes == ["TODO comments missing (TODO 3): found by its place among the handout's given code "
+                           "(TODO 3: lines 173-174)"]
+    bare = FileModel(make("no_markers"))  # every comment gone or reworded (issue 52: 0/90 before)
+    assert not bare.problems and bare.notes == [
+        "TODO comments missing (TODOs 1, 2, 3, 4, 5, 6, 7): found by their place among the handout's given code "
+        "(TODO 1: lines 98-101; TODO 2: lines 148-151; TODO 3: lines 176-177; TODO 4: lines 182-185; "
+        "TODO 5: lines 191-192; TODO 6: lines 196-198; TODO 7: lines 208-210)"]
+    assert code_of(bare, 2) == ["is_in_contact = False"] + SOLVED_CODE[2]
+    for k in (1, 3, 4, 5):
+        assert code_of(bare, k) == SOLVED_CODE[k], k
+    assert code_of(bare, 6)[-1] == "body_rotation_quaternion[None] += dt * d_q" and len(code_of(bare, 6)) == 3
+    assert code_of(bare, 7)[0] == "body_angular_momentum[None] += dt * body_torque" and len(code_of(bare, 7)) == 3
+    assert bare.shared == {1: "inertia", 3: "body_force", 4: "body_torque"}
+    reference = bare.build().text  # the student's local, read by the given collision code, is kept
+    assert "        is_in_contact = False\n        particle_force[i] = particle_mass * ti.Vector([gravity" in reference
+    assert "particle_force[i] = particle_mass * gravity\n" not in reference
+    assert FileModel(SOLVED).kept == {k: ([], []) for k in range(1, 8)}
+    bare_text = make("no_markers")  # out of the handout's order: no place, so not graded rather than misread
+    merged = FileModel(bare_text.replace(SOLVED_CODE[4][0], "pass").replace(SOLVED_CODE[4][1], "").replace(
+        SOLVED_CODE[3][0], SOLVED_CODE[3][0] + "\n        " + SOLVED_CODE[4][1].replace("arm", "particle_vertices[i]")))
+    assert sorted(merged.problems) == [3, 4] and sorted(merged.regions) == [1, 2, 5, 6, 7]
+    five, six = "\n".join(f"    {line}" for line in SOLVED_CODE[5]), "    body_rotation_quaternion[None] += dt * d_q"
+    swapped = FileModel(bare_text.replace(five + "\n", "").replace(six, six + "\n" + five))
+    assert sorted(swapped.problems) == [5, 6] and "expected '# TODO 5: update the center" in swapped.problems[5]
+
+
+def test_tab_indented_code_gets_reference_lines_indented_like_it():
+    lines = SOLVED.splitlines(keepends=True)  # substep's code indented with tabs, its comments with spaces
+    start = next(i for i, line in enumerate(lines) if line.startswith("def substep"))
+    end = next(i for i, line in enumerate(lines) if line.startswith("# drawing"))
+    for i in range(start + 1, end):
+        body = lines[i].lstrip(" ")
+        if body.strip() and not body.startswith("#"):
+            lines[i] = "\t" * ((len(lines[i]) - len(body)) // 4) + body
+    model = FileModel("".join(lines))
+    compile(model.text, "student.py", "exec")  # the student's file is consistent
+    for student in ((), (5,), (2, 6)):
+        compile(model.build(student).text, "version.py", "exec")  # a TabError before (issue 52)
+
+
+def test_an_error_in_a_version_names_the_students_file_and_line(tmp_path):
+    from rigid.grading.original import runner
+    from rigid.grading.original.variants import Variant
+
+    variant = Variant("x = 1\nif x:\n        y = 2\n\ty = 3\n", [None, 185, 186, 187])
+    path = tmp_path / "todos_5_10.py"
+    try:
+        compile(variant.text, str(path), "exec")
+    except SyntaxError as err:
+        runner.FILE_NAME[0] = "alice_rigid_body_dynamic.py"
+        message = runner.describe(err, variant, path)
+    assert message == ("TabError: inconsistent use of tabs and spaces in indentation "
+                       "(alice_rigid_body_dynamic.py, line 187)")
+
+
+def test_a_syntax_error_costs_only_its_todo():
     broken = FileModel(make("syntax_error_todo4"))
     assert not broken.problems and code_of(broken, 5) == SOLVED_CODE[5]
     from rigid.grading.original.child import _syntax_error
@@ -121,6 +175,10 @@ def test_bonus_parameters_are_zero_in_every_version_and_edits_of_given_code_are_
     for words in ("ti.init(arch=ti.cpu, debug=False)", "substeps = int(1 / 120 // dt)", "(640, 640)",
                   "body_angular_velocity[None].cross(ri)"):
         assert words in note, words
+    physics, _, elsewhere = note.partition("; elsewhere: ")  # the wall's sign error first, the window after
+    assert "in the simulation (they change the physics): line 158: f_collision = collision_stiffness * " \
+           "(particle_vertices[i][0] + 1)" in physics and "substeps = int(1 / 120 // dt)" in physics
+    assert elsewhere.startswith("line 9: ti.init(arch=ti.cpu, debug=False)") and "(640, 640)" in elsewhere
     assert given.note(model.text, model.regions).count("line ") == 3  # friction (2 lines) and the body's damping
     assert given.note(SOLVED, FileModel(SOLVED).regions) == ""
 
@@ -147,13 +205,19 @@ def test_versions_keep_everything_outside_the_todos():
     assert reference.student_line(line) is None and reference.student_line(1) == 1
 
 
-def test_meshes_from_the_submission_the_assets_or_ours_with_a_note():
-    files, renames, notes = plan('read_obj_file("sphere.obj", scale=0.3)')
-    assert files == {"sphere.obj": SPHERE} and not renames and not notes
+def test_meshes_from_the_submission_the_handout_or_ours_with_a_note(tmp_path):
+    files, renames, notes = plan('read_obj_file("sphere.obj", scale=0.3)')  # issue 52: never silently ours
+    assert files == {"sphere.obj": SPHERE} and not renames
+    assert notes == ["the file reads sphere.obj, which the submission does not include: graded with the project's "
+                     "sphere.obj (its 42-vertex icosphere has the handout's vertex and face counts but other "
+                     "coordinates and orientation, so spins and bonus figures can differ from the student's run)"]
+    (tmp_path / "sphere.obj").write_bytes(b"v 1 2 3\n")  # the handout's own mesh, beside --original-handout
+    assert plan('read_obj_file("sphere.obj")', {}, tmp_path) == ({"sphere.obj": b"v 1 2 3\n"}, {}, [])
     files, _, notes = plan("read_obj_file('bunny.obj')", {"bunny.obj": b"v 0 0 0\n"})
     assert files == {"bunny.obj": b"v 0 0 0\n"} and not notes
     files, _, notes = plan("read_obj_file('teapot.obj')")
-    assert files == {"teapot.obj": SPHERE} and "teapot.obj" in notes[0] and "42-vertex sphere.obj" in notes[0]
+    assert files == {"teapot.obj": SPHERE} and "teapot.obj" in notes[0]
+    assert "project's sphere.obj (its 42-vertex" in notes[0]
     files, renames, _ = plan(r"read_obj_file('C:\Users\amy\sphere.obj')")
     assert renames == {r"C:\Users\amy\sphere.obj": "sphere.obj"} and files == {"sphere.obj": SPHERE}
     files, renames, _ = plan("read_obj_file('/home/amy/../x/box.obj')")
@@ -237,3 +301,22 @@ def test_a_wrong_original_handout_is_refused_in_one_line(tmp_path, content, word
     with pytest.raises(UserError) as err:
         prepare_original(None, path)
     assert words in str(err.value) and "\n" not in str(err.value) and str(path) in str(err.value)
+
+
+def test_does_not_run_is_said_only_when_the_students_own_file_fails(monkeypatch, tmp_path):
+    import numpy as np
+    from rigid.grading.original import child
+    from rigid.grading.original.runner import Run
+
+    model = FileModel(make("no_markers").replace("        is_in_contact = False\n", "        is_in_contact, n = False, 0\n"))
+    assert model.kept[2] == (["        is_in_contact, n = False, 0\n"], [])  # a tuple of locals stays too
+    runs = []
+    monkeypatch.setattr(child, "run", lambda variant, path: runs.append(variant.text) or own)
+    own = Run(np.zeros((31, 16)))
+    message = child._does_not_run(model, tmp_path, "TaichiNameError: Name \"x\" is not defined (line 150)")
+    assert message.startswith("the file runs as submitted, but not with the grader's reference lines in its TODOs "
+                              "(TaichiNameError") and message.endswith("grade it by hand")
+    assert runs == [model.build(range(1, 8)).text]  # the student's own code in every TODO
+    own = Run(None, "ZeroDivisionError: division by zero (x.py, line 12)")
+    assert child._does_not_run(model, tmp_path, "…") == "the file does not run: ZeroDivisionError: division by " \
+                                                         "zero (x.py, line 12)"

@@ -160,3 +160,22 @@ def test_trajectory_blame_halves_to_the_straying_unit_and_spares_an_engine_bug(m
                               _Expected())
     (verdict,) = [e for e in events.log if e.get("event")]
     assert not verdict["passed"] and "not graded" in verdict["message"] and "engine" in verdict["message"]
+
+
+def test_a_wrong_inertia_is_said_in_words_not_as_a_matrix():
+    """inertia_words.describe on hand-built tensors (numbers made here, not by the grader)."""
+    from rigid.grading.inertia_words import describe
+
+    rng = np.random.default_rng(7)
+    m, r = rng.uniform(0.3, 3.0, 16), rng.normal(size=(16, 3))
+    rr = np.einsum("ni,nj->nij", r, r)
+    dot = np.einsum("ni,ni->n", r, r)[:, None, None] * np.eye(3)
+    mass = m[:, None, None]
+    assert describe(mass * (dot - rr), dict(m=m, r0=r)) == ""  # right: nothing to say
+    assert describe(mass * (dot + rr), dict(m=m, r0=r)) == (
+        "differs from I0 = Σ m (r0ᵀr0 E − r0 r0ᵀ): it adds m r0 r0ᵀ where it must subtract it (the sign of the "
+        "r0 r0ᵀ term)")
+    words = describe(mass * rr + 42 * mass * np.eye(3), dict(m=m, r0=r, M_body=42 * m))  # issue 52's file
+    assert "the sign of the r0 r0ᵀ term" in words and "lacks the m (r0ᵀr0) E term" in words
+    assert "has an extra identity term (the body's mass M times E" in words
+    assert describe(rng.normal(size=(16, 3, 3)), dict(m=m, r0=r)) == ""  # no mix of the terms: the generic words

@@ -11,12 +11,17 @@ submissions with --jobs 1 and --jobs 2. Then the course's original handout
 format (--original, default on): the real handout's shape solved, unsolved, a
 one-TODO mistake and a file with bonus terms (tests/data/original_handout/ and
 the variants of tests/grading_original_variants.py), one at a time, and the
-seconds per file of a batch of them with --jobs 2. Prints the figures;
-asserts nothing.
+seconds per file of a batch with --jobs 2 of those four and four more (solved.py
+after black, files with several mistakes, lost markers, edits of the given code). Each figure comes with the
+CPU seconds of the grading processes (the grader and every child it waited
+for): on a machine shared with other work the wall time grows, the CPU time
+much less, and CPU seconds / cores is the wall time an idle machine would take.
+Prints the figures; asserts nothing.
 """
 import argparse
 import json
 import os
+import resource
 import subprocess
 import sys
 import tempfile
@@ -40,13 +45,22 @@ VARIANTS = {
 }
 
 
+def children_cpu() -> float:
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
+
+
+LAST_CPU = [0.0]  # CPU seconds of the last grade() call's processes
+
+
 def grade(paths, cache, jobs, out):
-    start = time.monotonic()
+    start, cpu = time.monotonic(), children_cpu()
     proc = subprocess.run([sys.executable, str(ROOT / "scripts" / "grade.py"), *map(str, paths), "--jobs",
                            str(jobs), "--cache-dir", str(cache), "--json", str(out)],
                           capture_output=True, text=True)
     if proc.returncode:
         sys.exit(proc.stderr)
+    LAST_CPU[0] = children_cpu() - cpu
     return time.monotonic() - start, json.loads(Path(out).read_text())
 
 
@@ -55,7 +69,11 @@ def original_files() -> dict:
     sys.path.insert(0, str(ROOT / "tests"))
     from grading_original_variants import make
 
-    return {name: make(name) for name in ("solved", "unsolved", "t4_swapped_cross", "bonus_inside")}
+    return {name: make(name) for name in ("solved", "unsolved", "t4_swapped_cross", "bonus_inside", "black_formatted",
+                                          "marker_syntax_unrotated", "unknown_mistakes_given_edits", "mistakes_a")}
+
+
+ALONE = 4  # the first four are also graded one at a time
 
 
 def main():
@@ -88,7 +106,8 @@ def main():
                                                                   f"force = {i + 2} * particle_mass * gravity"))
         for jobs in (1, 2):
             wall, _ = grade([batch], cache, jobs, tmp / "c.json")
-            print(f"batch of {args.copies} (--jobs {jobs}): {wall:.1f} s, {wall / args.copies:.2f} s per submission")
+            print(f"batch of {args.copies} (--jobs {jobs}): {wall:.1f} s, {wall / args.copies:.2f} s per submission; "
+                  f"{LAST_CPU[0] / args.copies:.2f} CPU-s per submission")
 
 
 def bench_original(tmp, cache):
@@ -98,10 +117,14 @@ def bench_original(tmp, cache):
     print("original handout format (one file at a time, --jobs 1; 'seconds' is the file's own grading):")
     for name, text in texts.items():
         (folder / f"{name}.py").write_text(text)
+    for name in list(texts)[:ALONE]:
         wall, (r,) = grade([folder / f"{name}.py"], cache, 1, tmp / "o.json")
-        print(f"  {name:26s} {r['total']:>3g}/90  {r['seconds']:5.1f} s  (whole command {wall:.1f} s)")
+        print(f"  {name:26s} {r['total']:>3g}/90  {r['seconds']:5.1f} s  (whole command {wall:.1f} s, "
+              f"{LAST_CPU[0]:.1f} CPU-s)")
     wall, results = grade([folder], cache, 2, tmp / "o.json")
-    print(f"  batch of {len(results)} (--jobs 2): {wall:.1f} s, {wall / len(results):.2f} s per file")
+    n, cores = len(results), min(2, os.cpu_count() or 1)
+    print(f"  batch of {n} (--jobs 2): {wall:.1f} s, {wall / n:.2f} s per file; {LAST_CPU[0]:.1f} CPU-s, "
+          f"{LAST_CPU[0] / n:.2f} CPU-s per file ({LAST_CPU[0] / n / cores:.2f} s per file on {cores} idle cores)")
 
 
 if __name__ == "__main__":

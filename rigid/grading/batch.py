@@ -113,7 +113,7 @@ def grade_batch(submissions, settings: Settings, jobs: int = 1, on_result=None) 
     def one(i, sub):
         try:
             source, problem = sub.read()
-            result = grade_submission(sub.name, source, settings, problem, meshes=sub.meshes())
+            result = grade_submission(sub.name, source, settings, problem, meshes=sub.meshes(), file_name=sub.file_name)
         except Exception as err:  # the grader's own trouble (a full disk ...): this one fails, the batch goes on
             result = grade_submission(sub.name, None, settings, f"internal error of the grader: {err!r}")
         result["student"] = dict(zip(("uid", "name"), sub.student))

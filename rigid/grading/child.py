@@ -28,10 +28,21 @@ import sys
 import time
 
 
+PROCESSES = 256  # threads and processes of a sandboxed child (Taichi's threads fit many times over)
+
+
 def apply_limits(memory_mb: int, file_mb: int) -> None:
-    """Hard limits the submission cannot raise again (soft = hard)."""
-    for limit, value in ((resource.RLIMIT_AS, memory_mb << 20), (resource.RLIMIT_FSIZE, file_mb << 20),
-                         (resource.RLIMIT_CORE, 0)):
+    """Hard limits the submission cannot raise again (soft = hard); in the sandbox as root, first the
+    unprivileged uid the parent chose (box.py: root ignores the process limit and reads every file)."""
+    uid = os.environ.pop("RIGID_CHILD_UID", None)
+    if uid is not None:
+        os.setgroups([])
+        os.setgid(int(uid))
+        os.setuid(int(uid))
+    limits = [(resource.RLIMIT_AS, memory_mb << 20), (resource.RLIMIT_FSIZE, file_mb << 20), (resource.RLIMIT_CORE, 0)]
+    if os.environ.get("RIGID_SANDBOXED"):  # counted per box there; outside, it would count all the TA's processes
+        limits.append((resource.RLIMIT_NPROC, PROCESSES))
+    for limit, value in limits:
         resource.setrlimit(limit, (value, value))
 
 
@@ -94,6 +105,7 @@ def main(argv=None):
     p.add_argument("--format", choices=("project", "original"), default="project",  # original.detect.FORMATS
                    help="project: the TODO functions of rigid_body_dynamic.py; original: the course's "
                         "module-level script (original/)")
+    p.add_argument("--file-name", default="the submitted file", help="the student's file name, for messages")
     p.add_argument("--renames", default="{}", metavar="JSON",
                    help="original format: {quoted path in the file: path to read instead} (meshes)")
     args = p.parse_args(argv)
@@ -103,18 +115,26 @@ def main(argv=None):
     WRITE_CACHE[0] = args.write_cache or bool(args.make_expected)
     if args.make_expected:
         make_expected(events, args.reference, args.make_expected)
+    from . import attempts  # its hook goes in just before the submission's code first runs
+
     if args.format == "original":
         from .expected import Expected
         from .original.child import grade
+        from .original.runner import FILE_NAME
 
+        FILE_NAME[0] = args.file_name
         grade(events, args.submission, Expected(args.expected), todos, args.per_todo_trajectories,
-              json.loads(args.renames))
+              json.loads(args.renames), watch=lambda: attempts.install(events, (args.reference, args.expected)))
         finish(events)
 
     events.emit(phase="import")
     from .loader import import_submission, isolate_syntax_errors
 
     submission, syntax_errors = isolate_syntax_errors(args.submission)
+    import numpy  # noqa: F401  (loaded before the hook: what they do at import is not the submission's)
+    import taichi  # noqa: F401
+
+    attempts.install(events, (args.reference, args.expected))
     module, problem = import_submission(submission, args.memory_mb)
     if problem:
         events.emit(event="import_failed", message=problem)

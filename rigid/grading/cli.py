@@ -55,6 +55,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="the course's handout as given to students (original format): its kernels, with the "
                         "reference lines in its TODOs, are compiled once and each original-format submission "
                         "starts from them (about a third less CPU a file that keeps the given code)")
+    p.add_argument("--require-sandbox", action="store_true",
+                   help="refuse to grade unless each submission can run in a bubblewrap sandbox (bwrap: no "
+                        "network, no files but its own folder; see docs/ta-guide.md)")
     p.add_argument("--cache-dir", metavar="DIR", help="where the reference's answers and compiled kernels "
                                                       "are kept (default ~/.cache/rigid-body-taichi/grader)")
     return p
@@ -106,6 +109,16 @@ def _run(args) -> int:
     reference = Path(args.reference).resolve()
     if not reference.is_file():
         raise UserError(f"reference {reference} not found; give the solution file with --reference")
+    from .box import find_box
+
+    sandbox, why = find_box()
+    if sandbox is None and args.require_sandbox:
+        raise UserError(f"--require-sandbox: {why}; install it (apt-get install bubblewrap) or grade without "
+                        f"--require-sandbox")
+    if sandbox is None:
+        print(f"WARNING: submissions are NOT contained: {why}, so each runs as you and can read and write "
+              f"your files and open network connections. Install bubblewrap (apt-get install bubblewrap) "
+              f"or pass --require-sandbox to refuse.", file=sys.stderr)
     submissions, notes = discover(args.paths)
     for note in notes:
         print(note, file=sys.stderr)
@@ -117,6 +130,8 @@ def _run(args) -> int:
     settings = prepare(reference, limits, cache_root, log=lambda m: print(m, file=sys.stderr), original_handout=handout)
     settings.points = points
     settings.format = args.format
+    settings.sandbox = sandbox
+    settings.handout_folder = handout.resolve().parent if handout is not None else None
     print(report.points_line(points))
     n = len(submissions)
 

@@ -6,11 +6,13 @@ the reference output over all calls (round-off, float32 literals and any
 equivalent algebra pass; every mistake we know differs by 1e-3 or more with
 the grader's masses and Δt). A wrong output is named by the first of: it
 follows from the submission's own other (wrong) outputs; a known mistake
-(mistakes.py); generic tests (zero, unchanged, a constant, mass or Δt factor,
-right magnitude but wrong direction, wrong components).
+(mistakes.py); an inertia as a mix of its terms (inertia_words.py); generic tests
+(zero, unchanged, a constant, mass or Δt factor, right magnitude but wrong
+direction, wrong components).
 """
 import numpy as np
 
+from .inertia_words import describe as describe_inertia
 from .mistakes import MISTAKES, col, mm, mv, tr, unit
 
 RTOL = 1e-5
@@ -66,6 +68,10 @@ def diagnose_output(spec, name: str, out: np.ndarray, ref: np.ndarray, inputs: d
             if close(unit(out), ref):
                 return f"{label} is not renormalised: divide q by its norm after the step"
             return f"{inner}; it is also not renormalised (|q| ≠ 1)"
+    if spec.number == 1:
+        words = describe_inertia(out, inputs)
+        if words:
+            return f"{label} {words}"
     old = dict((o, i) for o, i in spec.updates).get(name)
     return f"{label} {_generic(name, out, ref, inputs, inputs[old] if old else None)}"
 

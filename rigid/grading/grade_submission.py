@@ -17,7 +17,7 @@ import shutil
 import signal
 import tempfile
 from dataclasses import dataclass, field
-from pathlib import Path
+from pathlib import Path, PurePath
 
 from .original.detect import detect
 from .original.meshes import plan
@@ -36,17 +36,23 @@ class Settings:
     limits: Limits = field(default_factory=Limits)
     format: str = "auto"  # "project", "original" (the course's handout), or "auto": detect per submission
     warm_cache_original: Path | None = None  # the original format's, from the course's handout (original/warm.py)
+    sandbox: object = None  # a box.Box each child runs in, or None (not contained)
+    handout_folder: Path | None = None  # the course's handout's folder: its meshes stand in for missing ones
 
 
 def grade_submission(name: str, source: bytes | None, settings: Settings, problem: str = "",
-                     cache_out: Path | None = None, meshes: dict | None = None) -> dict:
+                     cache_out: Path | None = None, meshes: dict | None = None, file_name: str = "") -> dict:
     """Grade the file content ``source``; ``problem`` (no source) fails every TODO with that reason.
 
     ``cache_out``: copy the child's Taichi cache there afterwards (only for trusted code: the warm-up).
     ``meshes``: mesh files of the submission by name (a file in the original format may read one).
+    ``file_name``: the file as the student named it, for messages (default: ``name``'s last part).
     """
     todos = {k: None for k in TODOS}  # k -> (passed, message) once decided
     seconds, output, notes = 0.0, "", []
+    if source is not None and not problem:
+        problem = _empty(source)
+        source = None if problem else source
     if source is None:
         for k in todos:
             todos[k] = (False, f"TODO {k}: not graded — {problem}")
@@ -59,11 +65,12 @@ def grade_submission(name: str, source: bytes | None, settings: Settings, proble
         (box / "rigid_body_dynamic.py").write_bytes(source)
         extra = []
         if fmt == "original":
-            files, renames, notes = plan(text, meshes)
+            files, renames, notes = plan(text, meshes, settings.handout_folder)
             for relative, data in files.items():
                 (box / relative).parent.mkdir(parents=True, exist_ok=True)
                 (box / relative).write_bytes(data)
-            extra = ["--format", "original", f"--renames={json.dumps(renames)}"]
+            extra = ["--format", "original", f"--renames={json.dumps(renames)}",
+                     f"--file-name={file_name or PurePath(name).name}"]
         warm = settings.warm_cache_original if fmt == "original" and settings.warm_cache_original else \
             settings.warm_cache
         if warm and warm.is_dir():
@@ -77,7 +84,8 @@ def grade_submission(name: str, source: bytes | None, settings: Settings, proble
                     "--expected", settings.expected, "--todos", ",".join(map(str, remaining)), *extra]
             args += ["--write-cache"] if cache_out is not None else []  # only a trusted run's cache is kept
             run = run_child(args + (["--per-todo-trajectories"] if per_todo else []), box,
-                            Path(tmp) / f"events{attempt}.jsonl", settings.limits)
+                            Path(tmp) / f"events{attempt}.jsonl", settings.limits, settings.sandbox,
+                            (settings.reference, settings.expected))
             seconds += run.seconds
             output = "".join(line for line in run.output.splitlines(keepends=True)
                              if not line.startswith("[Taichi] Starting on arch"))
@@ -90,6 +98,16 @@ def grade_submission(name: str, source: bytes | None, settings: Settings, proble
             if v is None:
                 todos[k] = (False, f"TODO {k}: not graded — the submission crashed the grader too often")
     return _result(name, todos, settings, seconds, output, fmt, notes)
+
+
+def _empty(source: bytes) -> str:
+    """Why a file holds nothing to grade ('' when it holds code)."""
+    lines = [line.strip() for line in source.decode("utf-8", errors="replace").splitlines()]
+    if not any(lines):
+        return "the file is empty"
+    if all(not line or line.startswith("#") for line in lines):
+        return "the file holds only comments, no code"
+    return ""
 
 
 def _interpret(run, remaining, limits, per_todo, fmt="project"):

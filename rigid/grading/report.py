@@ -97,7 +97,9 @@ def _shape(message: str) -> str:
 
 NOTE_KINDS = (("bonus terms", "bonus terms graded as 0"), ("edits of the given code", "edits of the given code"),
               ("the file reads", "a mesh the submission lacks"), ("the file calls ti.init", "ti.init called twice"),
-              ("TODO", "a marker read twice"), ("the file runs no window loop", "no window loop"))
+              ("TODO comments missing", "TODOs found without their comment"), ("TODO", "a marker read twice"),
+              ("the file runs no window loop", "no window loop"),
+              ("the submission", "attempts outside its folder (files, network, programs)"))
 
 
 def summary(results: list, top: int = 3) -> str:

@@ -14,13 +14,15 @@ can take 30 s of wall time, and used to run out of a wall-clock limit. stdout an
 drained by a thread into a bounded head + tail, so a print flood costs only
 CPU time. Returns what happened; interpreting it is grade.py's job.
 
-What this does not prevent: the child runs as the grader's user, so code that
-deliberately uses absolute paths can read or write that user's files, open
-network connections, or fake its own events. Run batches of untrusted code in
-a container or as an unprivileged user if that matters (see the README).
+With a ``box.Box`` (bubblewrap) the child runs inside it: it sees its box, the
+system and Python read-only, no network, nothing of the other submissions or
+the TA's files (box.py). Without one it runs as the grader's user and can read
+or write that user's files and open connections: grade.py says so once, loudly.
+Either way a submission can fake its own events (it shares the child's process).
 """
 import collections
 import json
+import select
 import os
 import signal
 import subprocess
@@ -97,22 +99,37 @@ def child_env(box: Path) -> dict:
     return env
 
 
-def run_child(args: list, box: Path, events_path: Path, limits: Limits) -> ChildRun:
-    """Run the child with ``args`` (after the module name); kill its process group on a stage timeout."""
+def run_child(args: list, box: Path, events_path: Path, limits: Limits, sandbox=None,
+              readable: tuple = ()) -> ChildRun:
+    """Run the child with ``args`` (after the module name); kill its process group on a stage timeout.
+
+    ``sandbox``: a box.Box to run it in (``readable``: the files outside the box it reads), or None."""
     # -P (Python 3.11+): the box (cwd) is not put on sys.path, only the repository root is.
     safe_path = ["-P"] if sys.version_info >= (3, 11) else []
     command = [sys.executable, *safe_path, "-m", "rigid.grading.child", "--events", str(events_path),
                "--memory-mb", str(limits.memory_mb), "--file-mb", str(limits.file_mb), *map(str, args)]
+    env, pass_fds, info = child_env(box), (), None
+    if sandbox is not None:
+        Path(events_path).touch()
+        info, write_end = os.pipe()  # bwrap writes the child's pid there: its CPU time is the stage's
+        wrapped, extra = sandbox.command(command, box, [events_path], readable)
+        command = wrapped[:-len(command) - 1] + ["--info-fd", str(write_end), "--"] + command
+        env.update(extra, RIGID_SANDBOXED="1")
+        pass_fds = (write_end,)
     start = time.monotonic()
-    proc = subprocess.Popen(command, cwd=box, env=child_env(box), stdin=subprocess.DEVNULL,
-                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, start_new_session=True)
+    proc = subprocess.Popen(command, cwd=box, env=env, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, start_new_session=True, pass_fds=pass_fds)
+    pid = proc.pid
+    if info is not None:
+        os.close(pass_fds[0])
+        pid = _child_pid(info) or pid
     drain = _Drain(proc.stdout)
     drain.start()
     reader = _EventReader(events_path)
     stage_wall, stage_cpu, timed_out = start, 0.0, False
     recent = collections.deque()  # (wall, cpu) samples of the last stage_seconds
     while proc.poll() is None:
-        now, cpu = time.monotonic(), _cpu_seconds(proc.pid)
+        now, cpu = time.monotonic(), _cpu_seconds(pid)
         if reader.poll():
             stage_wall, stage_cpu = now, cpu
             recent.clear()
@@ -132,8 +149,32 @@ def run_child(args: list, box: Path, events_path: Path, limits: Limits) -> Child
     proc.wait()
     drain.join(timeout=5)
     reader.poll()
-    return ChildRun(returncode=None if timed_out else proc.returncode, timed_out=timed_out,
+    if sandbox is not None and not reader.events and not timed_out:
+        # the box or Python in it failed before the child wrote a line: the grader's trouble, not the submission's
+        last = (drain.text().strip().splitlines() or [f"exit code {proc.returncode}"])[-1]
+        raise RuntimeError(f"bwrap could not start the box: {last}")
+    code = proc.returncode
+    if sandbox is not None and code > 128:  # bwrap reports a child killed by signal N as 128 + N
+        code = 128 - code
+    return ChildRun(returncode=None if timed_out else code, timed_out=timed_out,
                     events=reader.events, output=drain.text(), seconds=time.monotonic() - start)
+
+
+def _child_pid(fd: int):
+    """The child's pid from bwrap's --info-fd JSON (None if bwrap failed before writing it)."""
+    data = b""
+    try:
+        while select.select([fd], [], [], 30)[0]:
+            chunk = os.read(fd, 4096)
+            if not chunk:
+                break
+            data += chunk
+    finally:
+        os.close(fd)
+    try:
+        return int(json.loads(data)["child-pid"])
+    except (ValueError, KeyError, TypeError):
+        return None
 
 
 def _cpu_seconds(pid: int) -> float:

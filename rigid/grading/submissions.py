@@ -32,14 +32,20 @@ class Submission:
         m = ZIP_NAME.match(self.path.stem if self.kind != "folder" else self.path.name)
         return (m["uid"], m["name"]) if m else ("", "")
 
+    @property
+    def file_name(self) -> str:
+        """The file graded, as the student named it (a zip's or folder's member), for messages."""
+        if self.kind == "file":
+            return self.path.name
+        return f"{self.path.name}/{getattr(self, 'member', FILE_NAME)}"
+
     def read(self) -> tuple:
         """(bytes, "") or (None, why this submission cannot be graded)."""
         try:
             if self.kind == "file":
                 return _checked(self.path.read_bytes(), self.path.name)
-            if self.kind == "folder":
-                return _from_folder(self.path)
-            return _from_zip(self.path)
+            data, problem, self.member = (_from_folder if self.kind == "folder" else _from_zip)(self.path)
+            return data, problem
         except OSError as err:
             return None, f"cannot read {self.path}: {err.strerror or err}"
 
@@ -84,8 +90,8 @@ def _from_folder(folder: Path) -> tuple:
     names = [p.relative_to(folder).as_posix() for p in folder.rglob("*.py") if p.is_file()]
     chosen = _pick(names)
     if chosen is None:
-        return None, f"folder {folder.name} holds no {FILE_NAME}"
-    return _checked((folder / chosen).read_bytes(), chosen)
+        return None, f"folder {folder.name} holds no {FILE_NAME}", FILE_NAME
+    return (*_checked((folder / chosen).read_bytes(), chosen), chosen)
 
 
 def _from_zip(path: Path) -> tuple:
@@ -94,12 +100,12 @@ def _from_zip(path: Path) -> tuple:
             infos = {i.filename: i for i in z.infolist() if not i.is_dir()}
             chosen = _pick(list(infos))
             if chosen is None:
-                return None, f"{path.name} holds no {FILE_NAME}"
+                return None, f"{path.name} holds no {FILE_NAME}", FILE_NAME
             if infos[chosen].file_size > MAX_BYTES:
-                return None, f"{chosen} in {path.name} is too large for an assignment file"
-            return _checked(z.read(chosen), chosen)
+                return None, f"{chosen} in {path.name} is too large for an assignment file", chosen
+            return (*_checked(z.read(chosen), chosen), chosen)
     except (zipfile.BadZipFile, zipfile.LargeZipFile, NotImplementedError, RuntimeError) as err:
-        return None, f"{path.name} is not a readable zip file ({err})"
+        return None, f"{path.name} is not a readable zip file ({err})", FILE_NAME
 
 
 def discover(paths) -> tuple:

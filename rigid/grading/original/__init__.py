@@ -6,7 +6,10 @@ Such a file calls ``ti.init`` at import, keeps the body in global fields
 marker), and runs a GGUI ``while window.running:`` loop at module level.
 
 - detect.py     which format a submission is in
-- regions.py    where each TODO's code starts and ends, its kernel, loop and shared local names
+- regions.py    where each TODO's code starts and ends (from its comment, else align.py), its kernel
+- align.py      where a TODO is when its comment is gone: its place among the handout's given code
+- context.py    what is around a region: its loop, the given lines before it, the local it hands on
+- keep.py       the student's lines of a region that stay when the reference lines replace it
 - handout_shape.py  the handout's markers, titles and given code, as tables and regexes (read by regions.py)
 - scan.py       which lines continue a statement (brackets, strings), for a file that may not parse
 - reference.py  the project's reference lines for each TODO, written for the handout's names

@@ -117,6 +117,10 @@ def check_simulations(events, attribution, results: dict, per_todo: bool = False
             half = len(todos) // 2
             groups = [todos[:half], todos[half:]] + groups
             continue
-        if not ok and not results[todos[0]].get("simulation_only"):
+        if not ok and results[todos[0]].get("accumulates"):
+            message = (f"the force is accumulated across substeps: `+=` adds m g to the force of the previous "
+                       f"substep, which nothing resets, so gravity grows every substep; assign, don't add "
+                       f"(particle_force[i] = particle_mass * gravity); {message}")
+        elif not ok and not results[todos[0]].get("simulation_only"):
             message = "right on single calls, but " + message
         events.emit(event="trajectory", todos=todos, passed=ok, message=message)

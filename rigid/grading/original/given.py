@@ -116,16 +116,47 @@ def edits(text: str, regions: dict) -> tuple:
     return changed, missing
 
 
+KERNEL = re.compile(r"^\s*@ti\.(kernel|func)\b")
+PHYSICS = re.compile(r"^\s*(substeps|dt|gravity|particle_mass|\w*stiffness\w*)\s*=(?!=)")
+
+
+def physics_lines(text: str) -> set:
+    """1-based numbers of the lines that take part in the simulation: those of @ti.kernel and @ti.func
+    functions (until the next line at the decorator's indentation or less), and the module-level
+    assignments of the time step, substeps, mass, gravity and stiffnesses."""
+    lines, out, level = text.splitlines(), set(), None
+    for n, line in enumerate(lines, 1):
+        code = line.split("#")[0]
+        depth = len(line) - len(line.lstrip())
+        if level is not None and code.strip() and depth <= level and not line.lstrip().startswith(("def", "@")):
+            level = None
+        if KERNEL.match(line):
+            level = depth
+        if level is not None or PHYSICS.match(line):
+            out.add(n)
+    return out
+
+
 def note(text: str, regions: dict, limit: int = 6) -> str:
-    """One note on the edits of the given code, or '' when there are none (or the file is not the handout's)."""
+    """One note on the edits of the given code, or '' when there are none (or the file is not the handout's).
+    Edits in the simulation (physics_lines) come first: a sign flipped in the given wall code must not
+    hide behind a window's new size."""
     changed, missing = edits(text, regions)
     if not changed and not missing:
         return ""
     if len(HASHES) and missing > len(HASHES) // 2:
         return (f"the code outside the TODOs differs from the handout's in most lines ({missing} of its "
                 f"{len(HASHES)} given lines not found); it is kept as it is in every version the grader compares")
-    shown = "; ".join(f"line {n}: {line[:100]}" for n, line in changed[:limit])
-    more = f"; and {len(changed) - limit} more" if len(changed) > limit else ""
+    physics = physics_lines(text)
+    parts = []
+    for label, group in (("in the simulation (they change the physics)", [c for c in changed if c[0] in physics]),
+                         ("elsewhere", [c for c in changed if c[0] not in physics])):
+        if group:
+            left = max(limit - sum(len(p[1]) for p in parts), 1 if not parts else 0)
+            shown = "; ".join(f"line {n}: {line[:100]}" for n, line in group[:left])
+            more = f"{'; ' if shown else ''}and {len(group) - left} more" if len(group) > left else ""
+            parts.append((label, group, f"{label}: {shown}{more}"))
+    shown = "; ".join(p[2] for p in parts) if parts else "none added"
     gone = f"; {missing} given line{'s' if missing > 1 else ''} of the handout removed or rewritten" if missing else ""
     return (f"edits of the given code (they cost nothing: the grader runs them in every version it compares): "
-            f"{shown or 'none added'}{more}{gone}")
+            f"{shown}{gone}")

@@ -119,11 +119,13 @@ def rows(k: int, particles: int) -> tuple:
     put("q", np.tile([1.0, 0.0, 0.0, 0.0], (n, 1)))
     dt, m, g = np.full(n, 0.03), np.full(n, 0.9), np.tile([0.0, -9.8, 0.0], (n, 1))
     values = {}  # state name -> (K, n) values of this TODO's inputs
-    if k == 1:
+    if k == 1:  # the other particles sit at the centre of mass: an identity term per particle sums to M E
         m = d["m"]
         values.update(p0=d["r0"], r0=d["r0"])
-    elif k == 2:
+        d = dict(d, M_body=m * particles)
+    elif k == 2:  # a force left from the previous substep: `particle_force[i] += m g` shows as such
         m, g = d["m"], d["g"]
+        values.update(f0=leftover_force(n))
     elif k == 3:
         values.update(f0=d["f"])
     elif k == 4:
@@ -167,12 +169,20 @@ def evaluate(k: int, module, particles: int) -> tuple:
     elif k == 7:
         sub = {"L_new": _kept(out[:, :3], d["L"]), "omega": out[:, 3:]}
         spec = replace(spec, outputs=tuple(o for o in spec.outputs if o[0] != "I_inv"))
+    elif k == 2:  # the force left as it was (the handout's placeholder) reads as not done
+        left = leftover_force(len(out))
+        sub = {"f": np.where(np.all(out == left.astype(np.float32), axis=1, keepdims=True), 0.0, out)}
     else:
         sub = {spec.outputs[0][0]: out}
     labels = {1: "the inertia tensor", 3: "the total force"}
     if k in labels:
         spec = replace(spec, outputs=((spec.outputs[0][0], spec.outputs[0][1], labels[k]),))
     return spec, d, sub
+
+
+def leftover_force(n: int) -> np.ndarray:
+    """The particle's force before TODO 2 runs in its direct check: what the previous substep left."""
+    return np.stack([np.linspace(-3.0, 2.0, n), np.linspace(1.5, -2.5, n), np.full(n, 0.75)], axis=1)
 
 
 def _kept(out, given, changed=None):

@@ -36,13 +36,12 @@ assigns and later code reads. The tables named in capitals are in handout_shape.
 import re
 from dataclasses import dataclass, field
 
-from .handout_shape import ANCHORS, END_MARKER, EXPECTED, GIVEN_WORDS, JOB, MARKER, NORMALISE, SHARED, TITLES, WRITES
+from .align import virtual_markers
+from .context import loop_and_context, shared_name
+from .handout_shape import ANCHORS, END_MARKER, EXPECTED, GIVEN_WORDS, JOB, MARKER, NORMALISE, TITLES, WRITES
 from .scan import continuation_lines, indent_of
 
 DEF = re.compile(r"^(?P<indent>[ \t]*)def\s+(?P<name>[A-Za-z_]\w*)\s*\(")
-FOR = re.compile(r"^\s*for\s+(?P<var>[A-Za-z_]\w*)\s+in\b.*:\s*(#.*)?$")
-ASSIGN = re.compile(r"^\s*(?P<name>[A-Za-z_]\w*)\s*(?P<op>\+?=)(?!=)")
-IDENT = re.compile(r"[A-Za-z_]\w*")
 
 
 @dataclass
@@ -60,7 +59,15 @@ class Region:
     context: list = field(default_factory=list)  # given 'name = ...' lines before it at its own level
     outer: list = field(default_factory=list)  # given 'name = ...' lines before its loop, at the loop's level
     shared: str | None = None  # TODOs 1, 3, 4: the local handed on
-    marker_text: str = ""  # the marker line as the student wrote it
+    marker_text: str = ""  # the marker line as the student wrote it ("" when found by align.py)
+
+    @property
+    def level(self) -> int:
+        return indent_of(self.indent)
+
+    def where(self) -> str:
+        """Its lines, for a message: 'lines 98-101', or 'empty, at line 147'."""
+        return f"lines {self.start + 1}-{self.end}" if self.end > self.start else f"empty, at line {self.start + 1}"
 
     def code(self, lines) -> list:
         return lines[self.start:self.end]
@@ -124,16 +131,43 @@ def find_regions_with_notes(text: str) -> tuple:
             regions[k] = _region(k, i, lines, functions, cont, set(markers))
         except RegionError as err:
             problems[k] = str(err)
+    lost = [k for k in problems if k not in markers and problems[k].startswith("no '# TODO")]
+    placed = []
+    for k, (i, indent, limit) in virtual_markers(lines, cont, functions, lost).items():
+        try:
+            regions[k] = _region(k, i, lines, functions, cont, set(markers), indent, limit)
+        except RegionError:
+            continue
+        del problems[k]
+        placed.append(k)
+    if placed:
+        ks = ", ".join(map(str, sorted(placed)))
+        notes.append(f"TODO comments missing (TODO{'s' if len(placed) > 1 else ''} {ks}): found by "
+                     f"{'their' if len(placed) > 1 else 'its'} place among the handout's given code ("
+                     + "; ".join(f"TODO {k}: {regions[k].where()}" for k in sorted(placed)) + ")")
     regions = {k: r for k, r in regions.items() if k not in problems}
     if not regions:
         raise RegionError(problems[min(problems)])
-    student = {j for r in regions.values() for j in range(r.marker, r.end)}
+    _no_overlap(regions, lines)
+    student = {j for r in regions.values() for j in range(r.start, r.end)}
     for region in regions.values():
-        _loop_and_context(region, lines, cont, student)
+        loop_and_context(region, lines, cont, student)
     for k in (1, 3, 4):
         if k in regions:
-            regions[k].shared = _shared_name(regions[k], lines)
-    return regions, problems, notes
+            regions[k].shared = shared_name(regions[k], lines)
+    return regions, problems, sorted(notes)
+
+
+def _no_overlap(regions, lines) -> None:
+    """A region ends where the next one (in the file) starts: a TODO found by its place (align.py) may
+    begin inside the span regions.py gave the one before it."""
+    ordered = sorted(regions.values(), key=lambda r: r.start)
+    for region, after in zip(ordered, ordered[1:]):
+        if region.end > after.start:
+            region.end = max(region.start, after.start if after.marker_text == "" else after.marker)
+            while region.end > region.start and (not lines[region.end - 1].strip()
+                                                 or lines[region.end - 1].strip().startswith("#")):
+                region.end -= 1
 
 
 def _functions(lines, cont) -> list:
@@ -157,16 +191,18 @@ def _functions(lines, cont) -> list:
     return out
 
 
-def _region(k, marker, lines, functions, cont, present) -> Region:
-    around = [f for f in functions if f[0] <= marker < f[1]]
+def _region(k, marker, lines, functions, cont, present, indent=None, limit=None) -> Region:
+    """TODO k's region after line ``marker`` (its comment, or with ``indent`` the line before the code
+    align.py placed, which ends by the line ``limit``)."""
+    around = [f for f in functions if f[0] <= marker + (indent is not None) < f[1]]
     if not around:
         raise RegionError(f"'# TODO {k}' (line {marker + 1}) is not inside a kernel; expected it {EXPECTED[k]}")
     first, last, name = max(around, key=lambda f: f[0])  # the innermost
-    indent = MARKER.match(lines[marker])["indent"]
-    level = indent_of(lines[marker])
+    text = indent if indent is not None else MARKER.match(lines[marker])["indent"]
+    level = indent_of(text)
     later_missing = [WRITES[j] for j in WRITES if j > k and j not in present]
-    end, updated = len(lines), False
-    for j in range(marker + 1, len(lines)):
+    end, updated = limit or len(lines), False
+    for j in range(marker + 1, end):
         text = lines[j].strip()
         if MARKER.match(lines[j]) or END_MARKER.match(lines[j]):
             end = j
@@ -190,7 +226,13 @@ def _region(k, marker, lines, functions, cont, present) -> Region:
         updated = updated or bool(k == 6 and WRITES[6].match(text))
     while end > marker + 1 and (not lines[end - 1].strip() or lines[end - 1].strip().startswith("#")):
         end -= 1
-    return Region(k, marker, marker + 1, end, indent, name, (first, last), marker_text=lines[marker].strip())
+    code = [lines[j] for j in range(marker + 1, end) if j not in cont and lines[j].strip()
+            and not lines[j].strip().startswith("#") and indent_of(lines[j]) == level]
+    if code or (end < len(lines) and indent_of(lines[end]) == level and lines[end].strip()):
+        line = code[0] if code else lines[end]  # the code's own indentation (tabs where the comment has spaces)
+        text = line[:len(line) - len(line.lstrip())]
+    return Region(k, marker, marker + 1, end, text, name, (first, last),
+                  marker_text=lines[marker].strip() if indent is None else "")
 
 
 def _does_the_job(k, lines, start, level, cont) -> bool:
@@ -214,79 +256,3 @@ def _does_the_job(k, lines, start, level, cont) -> bool:
 def _starts_given_code(text) -> bool:
     word = text.lstrip("#").strip().lower()
     return word.startswith(GIVEN_WORDS)
-
-
-def _loop_and_context(region, lines, cont, student) -> None:
-    """The innermost enclosing for loop (header, its body's given lines before the TODO, the given
-    ``name = ...`` lines before it at its level) and the given ``name = ...`` lines before the TODO at its
-    own level. Lines of TODO regions are never context."""
-    level = indent_of(lines[region.marker])
-    first = region.kernel_lines[0]
-    header = None
-    for j in range(region.marker - 1, first, -1):
-        text = lines[j].strip()
-        if not text or text.startswith("#") or j in cont or j in student:
-            continue
-        if indent_of(lines[j]) < level:
-            if FOR.match(lines[j]):
-                header = j
-            break
-    if header is not None:
-        region.loop_header = lines[header].strip()
-        region.loop_var = FOR.match(lines[header])["var"]
-        region.loop_context = _statements(lines, header + 1, region.marker, cont, student)
-        outer_level = indent_of(lines[header])
-        outer_start = _block_start(lines, header, first, outer_level, cont | student)
-        region.outer = [line for line in _statements(lines, outer_start, header, cont, student)
-                        if indent_of(line) == outer_level and ASSIGN.match(line) and ASSIGN.match(line)["op"] == "="]
-    block_start = header + 1 if header is not None else _block_start(lines, region.marker, first, level,
-                                                                     cont | student)
-    region.context = [line for line in _statements(lines, block_start, region.marker, cont, student)
-                      if indent_of(line) == level and ASSIGN.match(line) and ASSIGN.match(line)["op"] == "="]
-
-
-def _block_start(lines, marker, first, level, skip) -> int:
-    """First line of the block the line ``marker`` sits in."""
-    for j in range(marker - 1, first, -1):
-        text = lines[j].strip()
-        if text and not text.startswith("#") and j not in skip and indent_of(lines[j]) < level:
-            return j + 1
-    return first + 1
-
-
-def _statements(lines, start, stop, cont, student) -> list:
-    """Given statements between two line indices, each with its continuation lines; comments left out."""
-    out = []
-    for j in range(start, stop):
-        text = lines[j].strip()
-        if j in student:
-            continue
-        if j in cont:
-            if out:
-                out[-1] += "\n" + lines[j]
-        elif text and not text.startswith("#"):
-            out.append(lines[j])
-    return out
-
-
-def _shared_name(region, lines) -> str:
-    """The local variable TODO 1, 3 or 4 hands on to the code after it."""
-    first, last = region.kernel_lines
-    after = set(IDENT.findall("\n".join(lines[region.end:last])))
-    inside = set(IDENT.findall("\n".join(line.split("#")[0] for line in region.code(lines))))
-    given = [ASSIGN.match(line)["name"] for line in region.outer + region.context]
-    given = [n for n in given if n in after or n in inside]
-    level = indent_of(lines[region.marker])
-    assigned = []
-    for line in region.code(lines):
-        m = ASSIGN.match(line)
-        if m and (m["op"] == "+=" or indent_of(line) == level) and m["name"] not in assigned:
-            assigned.append(m["name"])
-    if SHARED[region.k] in given and (SHARED[region.k] in assigned or SHARED[region.k] in after):
-        return SHARED[region.k]
-    if given and (given[-1] in assigned or not [n for n in assigned if n in after]):
-        return given[-1]
-    own = [n for n in assigned if n in after]
-    if own:
-        return own[0]
-    return given[-1] if given else SHARED[region.k]

@@ -136,16 +136,25 @@ def _drive(module, recorder, text) -> str:
             f"itself")
 
 
+FILE_NAME = ["the submitted file"]  # the student's file name, for messages (child.py sets it)
+
+
 def describe(err: BaseException, variant, path: Path) -> str:
-    """One line: the error's type and last line, and the student's line it points at."""
+    """One line: the error's type and last line, and the line of the student's file it points at (never
+    a line of the version the grader wrote: its name and numbers mean nothing to the student)."""
     text = str(err)
+    if isinstance(err, SyntaxError):  # TabError, IndentationError: the message names the version's file
+        text = err.msg or type(err).__name__
+        numbers = [err.lineno] if err.lineno and Path(err.filename or "").name == path.name else []
+    else:
+        numbers = [int(n) for n in re.findall(rf'File "{re.escape(str(path))}", line (\d+)', text)]
+        numbers = numbers or [f.lineno for f in traceback.extract_tb(err.__traceback__)
+                              if Path(f.filename).resolve() == path.resolve()]
+    text = text.replace(str(path), FILE_NAME[0]).replace(path.name, FILE_NAME[0])
     lines = [line.strip() for line in text.splitlines() if line.strip()]
     last = lines[-1] if lines else ""
-    numbers = [int(n) for n in re.findall(rf'File "{re.escape(str(path))}", line (\d+)', text)]
-    numbers = numbers or [f.lineno for f in traceback.extract_tb(err.__traceback__)
-                          if Path(f.filename).resolve() == path.resolve()]
     place = ""
     if numbers:
         line = variant.student_line(numbers[-1])
-        place = f" (line {line})" if line else " (in the grader's reference lines)"
+        place = f" ({FILE_NAME[0]}, line {line})" if line else " (in the grader's reference lines)"
     return f"{type(err).__name__}: {last}{place}"[:300] if last else f"{type(err).__name__}{place}"

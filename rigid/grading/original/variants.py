@@ -5,7 +5,8 @@ module-level assignments. These come from the version with reference lines in
 every region, so a syntax error inside one TODO does not stop the others from
 being graded; one outside the TODOs raises RegionError. ``build(student, ...)``
 keeps the student's code for the TODOs in ``student`` and puts the reference
-lines (reference.py) in the other regions; every line outside the regions
+lines (reference.py) in the other regions, with the student's lines there that
+the rest of the file reads (keep.py); every line outside the regions
 (given code, parameters, mesh, bonus code, the window loop) stays the
 student's. ``params`` replaces the module-level assignments of those parameters
 (``particle_mass = 1`` -> ``particle_mass = 0.7``), ``extra`` is inserted after
@@ -30,8 +31,10 @@ import re
 from dataclasses import dataclass
 
 from .given import BONUS
+from .keep import kept
 from .reference import lines_for
 from .regions import RegionError, find_regions_with_notes
+from .scan import continuation_lines
 
 PERTURBED = {  # other parameters than the handout's: a missing mass factor or Δt cannot hide, and it spins
     "particle_mass": (0.7, 1.3),  # the first that differs from the file's own value
@@ -57,6 +60,8 @@ class FileModel:
         self.lines = [line if line.endswith("\n") else line + "\n" for line in text.splitlines(keepends=True)]
         self.regions, self.problems, self.notes = find_regions_with_notes(text)
         self.shared = {k: self.regions[k].shared if k in self.regions else None for k in (1, 3, 4)}
+        cont = continuation_lines(text)
+        self.kept = {k: kept(r, text.splitlines(), cont) for k, r in self.regions.items()}
         reference = self.build()
         try:
             tree = ast.parse(reference.text)
@@ -84,8 +89,9 @@ class FileModel:
             params = {**{name: 0.0 for name in self.bonus}, **(params or {})}
         splices = []  # (start, end, new lines)
         for k, region in self.regions.items():
-            if k not in student:
-                splices.append((region.start, region.end, lines_for(k, region, self.shared, form)))
+            if k not in student:  # the student's lines the rest of the file reads stay (keep.py)
+                before, after = self.kept[k]
+                splices.append((region.start, region.end, before + lines_for(k, region, self.shared, form) + after))
         for name, value in (params or {}).items():
             if name in self.assignments:
                 first, end, indent, old = self.assignments[name]

@@ -63,7 +63,7 @@ def prepare_original(settings, handout: Path, log=print):
     try:
         # Trusted code, compiled cold: a short --timeout meant for submissions must not stop it (batch._prepare).
         limits = replace(settings.limits, stage_seconds=max(settings.limits.stage_seconds, 600.0))
-        trusted = replace(settings, format="original", limits=limits)
+        trusted = replace(settings, format="original", limits=limits, handout_folder=Path(handout).resolve().parent)
         result = grade_submission("handout", solved.encode(), trusted, cache_out=tmp / "taichi")
         failed = [t["message"] for t in result["todos"].values() if not t["passed"]]
         if failed:
