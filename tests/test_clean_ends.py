@@ -44,3 +44,87 @@ def test_export_to_proc_exits_2_with_one_line_before_simulating():
     lines = proc.stderr.strip().splitlines()
     assert lines[-1].startswith("error: output folder /proc does not take new files"), proc.stderr
     assert "Traceback" not in proc.stderr
+
+
+def test_ctrl_c_while_the_kernels_compile_stops_within_seconds(tmp_path):
+    """On an empty kernel cache the pile's first frame compiles for tens of seconds inside one
+    C++ call, where Python's own Ctrl-C handling waited for the whole compile."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    from conftest import ROOT, SOLUTION
+
+    env = dict(os.environ, TI_OFFLINE_CACHE_FILE_PATH=str(tmp_path / "cache"))  # nothing compiled yet
+    out = tmp_path / "pile.npz"
+    proc = subprocess.Popen([sys.executable, str(SOLUTION), "--headless", "--frames", "5", "--scene",
+                             "assets/scenes/pile.toml", "--export", str(out)], cwd=ROOT, env=env,
+                            stderr=subprocess.PIPE, stdout=subprocess.DEVNULL, text=True)
+    try:
+        for line in proc.stderr:  # the simulator is built; its substep's kernels compile next
+            if line.startswith("simulating"):
+                break
+        time.sleep(1.0)
+        assert proc.poll() is None, "the run ended before it could be interrupted"
+        sent = time.monotonic()
+        proc.send_signal(signal.SIGINT)
+        code = proc.wait(timeout=60)
+        waited = time.monotonic() - sent
+        rest = proc.stderr.read()
+    finally:
+        proc.kill()
+        proc.wait()
+    assert code == 130, rest
+    assert waited < 5.0, f"Ctrl-C took {waited:.1f} s to act"
+    assert rest.strip().splitlines()[-1].startswith("interrupted while compiling kernels"), rest
+    assert not out.exists() and not list(tmp_path.glob(".pile.partial*"))
+
+
+def test_one_edge_is_singular():
+    """Two tetrahedra sharing one edge: that edge has four triangles, the only bad one."""
+    from rigid.bodies.sampling import check_closed
+    from rigid.errors import UserError
+
+    v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1], [0, -1, 0], [0, 0, -1]], float)
+    tet = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+    other = np.array([[0, 1, 4], [0, 5, 1], [0, 4, 5], [1, 5, 4]])
+    with pytest.raises(UserError, match=r"^the mesh is not watertight \(1 edge is not shared by exactly two"):
+        check_closed(v, np.concatenate([tet, other]))
+
+
+def _overlap_message(tmp_path, **keys):
+    from rigid.bodies.overlap import check_start
+    from rigid.bodies.placement import scene_bodies
+    from rigid.bodies.statics import static_bodies
+    from rigid.config import SimConfig, load_scene
+    from rigid.errors import UserError
+
+    scene = tmp_path / "bowl.toml"
+    scene.write_text('[[static]]\nmesh = "bowl.obj"\nscale = 0.7\nposition = [0.0, -0.28, 0.0]\n')
+    config = SimConfig(**{**load_scene(scene), **keys}).validate()
+    bodies = scene_bodies(config)
+    bodies += static_bodies(config, bodies)
+    with pytest.raises(UserError) as err:
+        check_start(config, bodies)
+    return str(err.value)
+
+
+def test_overlap_message_without_count_or_radius_says_neither(tmp_path):
+    """A lone body (particles of no radius) in a bowl's side: no "radius 0", no "lower count"."""
+    message = _overlap_message(tmp_path, position=(0.5, -0.45, 0.0))
+    assert "radius 0 " not in message and "count" not in message, message
+    assert "body 1's particles inside the other's particle spheres of radius" in message, message
+    assert message.endswith("move them apart (position)"), message
+    copies = _overlap_message(tmp_path, position=(0.5, -0.45, 0.0), count=2, scale=0.2)
+    assert copies.endswith("or use a smaller count"), copies
+
+
+def test_help_says_how_long_a_frame_is():
+    """A frame is int((1/60) // dt) substeps: 16 ms at the default, so 300 frames end at 4.8 s."""
+    from rigid.cli import build_parser
+
+    text = " ".join(build_parser().format_help().split())
+    assert "a frame is 1/60 s" not in text
+    assert "16 x 1 ms = 16 ms at the default" in text and "t = 4.8 s at the default dt" in text

@@ -86,7 +86,8 @@ def check_closed(vertices: np.ndarray, faces: np.ndarray) -> None:
     _e, uses = np.unique(edges, axis=0, return_counts=True)
     bad = int(np.count_nonzero(uses != 2))
     if bad:
-        raise UserError(f"the mesh is not watertight ({bad} edges are not shared by exactly two "
+        edges_are = "1 edge is" if bad == 1 else f"{bad} edges are"
+        raise UserError(f"the mesh is not watertight ({edges_are} not shared by exactly two "
                         f"triangles), so --particles volume cannot tell inside from outside; "
                         f"use --particles vertex or repair the mesh")
 

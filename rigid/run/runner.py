@@ -12,6 +12,7 @@ import threading
 import time
 from dataclasses import dataclass
 
+from .compile_guard import disarm_compile_guard
 from .diagnostics import Trajectory, first_blow_up, stability_hint
 from .escape import first_escape
 from .exports import write_exports
@@ -102,6 +103,7 @@ def run_frames(sim, frames: int | None, export_path=None, on_frame=None) -> RunR
                 last = _row(block, size - 1)
                 if on_frame is not None and on_frame(sim, result.frames):
                     e0, bound = _baseline(sim, sim.current_block())
+                disarm_compile_guard()  # compiled: Ctrl-C now stops between frames, keeping them
     except StopRun:
         pass
     except KeyboardInterrupt:
