@@ -128,3 +128,27 @@ def test_help_says_how_long_a_frame_is():
     text = " ".join(build_parser().format_help().split())
     assert "a frame is 1/60 s" not in text
     assert "16 x 1 ms = 16 ms at the default" in text and "t = 4.8 s at the default dt" in text
+
+
+def test_copies_that_would_stack_kilometres_high_are_refused():
+    """--count 100000 of the default sphere stacked 25,000 layers, 19.5 km high, and crashed the
+    process (exit 139); the refusal names the most copies that fit, and that many still place."""
+    from rigid.bodies.placement import MAX_STACK_HEIGHT, scene_bodies
+    from rigid.config import SimConfig
+    from rigid.errors import UserError
+
+    with pytest.raises(UserError, match=r"^count = 100000: 100,000 copies 0.779 m apart make 25,000 layers "
+                                        r"of 2 x 2, 19,480 m high.*\(at most 20 m: 104 copies of this size\)"):
+        scene_bodies(SimConfig(count=100000).validate())
+    bodies = scene_bodies(SimConfig(count=104).validate())
+    top = max(b.position[1] for b in bodies) - min(b.position[1] for b in bodies)
+    assert MAX_STACK_HEIGHT - 0.779 < top <= MAX_STACK_HEIGHT
+    with pytest.raises(UserError, match=r"^count = 105: "):
+        scene_bodies(SimConfig(count=105).validate())
+    assert len(scene_bodies(SimConfig(count=200, walls=False).validate())) == 200  # no box: a cube of copies
+
+
+def test_count_100000_exits_2_with_one_line():
+    proc = run_cli("--headless", "--count", "100000")
+    assert proc.returncode == 2 and "Traceback" not in proc.stderr, proc.stderr
+    assert proc.stderr.strip().splitlines()[-1].startswith("error: count = 100000: 100,000 copies"), proc.stderr
