@@ -72,7 +72,7 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--integrator", choices=("euler", "symplectic", "rk4"),
                    help="euler: explicit, as on the slides (default); symplectic; rk4")
     g.add_argument("--fp64", action="store_true", default=None, help="simulate in float64")
-    g.add_argument("--arch", choices=("cpu", "gpu"), help="cpu (default) or gpu: CUDA or Vulkan if present")
+    g.add_argument("--arch", choices=("cpu", "gpu"), help="cpu (default) or gpu: CUDA, Metal (macOS) or a hardware Vulkan if present, else the CPU with a note")
     g.add_argument("--seed", type=int, help="seed for the random kick and sampling (default 0)")
     g = p.add_argument_group("output")
     g.add_argument("--frames", type=int, metavar="N", help="frames to simulate, each of int((1/60) // dt) "

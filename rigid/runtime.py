@@ -43,7 +43,7 @@ def init_taichi(arch: str = "cpu", fp64: bool = False, debug: bool = False, quic
                   random_seed=0, advanced_optimization=not quick_compile)
     backend = "cpu"
     if arch == "gpu":
-        for candidate, name in ((ti.cuda, "cuda"), (ti.vulkan, "vulkan")):
+        for candidate, name in gpu_candidates():
             if name == "cuda" and ctypes.util.find_library("cuda") is None:
                 continue  # no NVIDIA driver: skip Taichi's two lines of warnings about it
             if name == "vulkan" and not glob.glob("/dev/dri/renderD*") and sys.platform == "linux":
@@ -58,7 +58,7 @@ def init_taichi(arch: str = "cpu", fp64: bool = False, debug: bool = False, quic
                 backend = name
                 break
         else:
-            print("note: --arch gpu: no CUDA or Vulkan GPU found (a software Vulkan does not count); "
+            print("note: --arch gpu: no CUDA, Metal or Vulkan GPU found (a software Vulkan does not count); "
                   "running on the CPU",
                   file=sys.stderr)
             _quiet_init(arch=ti.cpu, **common)
@@ -66,6 +66,15 @@ def init_taichi(arch: str = "cpu", fp64: bool = False, debug: bool = False, quic
         _quiet_init(arch=ti.cpu, **common)
     _initialised = dict(wanted=wanted, backend=backend)
     return backend
+
+
+def gpu_candidates() -> list:
+    """(Taichi arch, name) to try for --arch gpu, in order: CUDA, then Metal on a Mac (Taichi's
+    GPU backend there; untested by this project: no Mac here), then Vulkan."""
+    found = [(ti.cuda, "cuda")]
+    if sys.platform == "darwin":
+        found.append((ti.metal, "metal"))
+    return found + [(ti.vulkan, "vulkan")]
 
 
 def _quiet_init(**kwargs):

@@ -36,9 +36,11 @@ class CompileGuard:
 
     def arm(self) -> "CompileGuard":
         global _active
-        if threading.current_thread() is not threading.main_thread() or \
+        if sys.platform == "win32" or threading.current_thread() is not threading.main_thread() or \
                 signal.getsignal(signal.SIGINT) in (signal.SIG_IGN, signal.SIG_DFL, None):
-            return self  # Ctrl-C ignored on purpose (nohup), or not ours to catch
+            # Windows takes only a socket as the wakeup fd: Ctrl-C there waits for the compile.
+            # Elsewhere: Ctrl-C ignored on purpose (nohup), or not ours to catch.
+            return self
         self._read, self._write = os.pipe()
         os.set_blocking(self._write, False)  # the C handler must never block
         try:
