@@ -23,8 +23,8 @@ def init_taichi(arch: str = "cpu", fp64: bool = False, debug: bool = False, quic
     """Initialise Taichi once; return the backend actually used ("cpu", "cuda", "vulkan").
 
     ``quick_compile``: skip Taichi's advanced IR optimisations (``advanced_optimization=False``;
-    LLVM still optimises the machine code). Kernels compile 2-3x faster (a lone body cold:
-    5.5 s against 9.6; a pile's pair stages: 13 s against 45) and run 10-20 % slower, so it
+    LLVM still optimises the machine code). Kernels compile several times faster and run a little
+    slower (report/bench_build.json measures building), so it
     suits processes that compile much and simulate little: the grader's children, whose runs
     are a few hundred substeps of ten particles, and the test suite (``RIGID_QUICK_COMPILE=1``,
     which every process it starts inherits). Simulations for users keep the default (None:

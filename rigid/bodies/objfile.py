@@ -1,7 +1,7 @@
 """A reader for OBJ polygon meshes, so that start-up need not import trimesh, and so that
 relative face indices are read right.
 
-Importing trimesh costs ~0.45 s of a ~2 s start-up. This reader takes ``v x y z`` lines
+Importing trimesh is a large part of start-up. This reader takes ``v x y z`` lines
 (optionally with a colour), faces ``f a b c ...`` of three or more corners (each ``a``,
 ``a/t``, ``a//n`` or ``a/t/n``), and skips ``vt``/``vn``/``s``/``o``/``g``/``usemtl``/
 ``mtllib`` and comment lines: the file's vertices in file order, one mesh, faces 0-based.

@@ -64,8 +64,7 @@ def _fix(config) -> str:
 def _close_pairs(points, bodies) -> np.ndarray:
     """(a, b) with a < b, in that order, of the bodies whose bounding spheres (about their particles'
     centre, holding every particle's sphere) meet, leaving out two statics and the meshes of one
-    file. A tree of the centres finds them: testing every pair in Python took 7 s for 2,000 bodies
-    and grew as the square."""
+    file. A tree of the centres finds them: testing every pair in Python grows as the square."""
     from scipy.spatial import cKDTree
 
     if len(bodies) < 2:

@@ -22,8 +22,8 @@ from .progress import FrameBar, TimeLeft
 def energy_bound(mass: float, gravity, kinetic0: float) -> float:
     """How far the total energy may rise above its start before we call it a blow-up.
 
-    The body has no energy source: only the integrator's error adds energy (under 1 J
-    over 10 s in every scene of assets/scenes). An unstable contact spring adds it
+    The body has no energy source: only the integrator's error adds energy (a small
+    fraction of this bound in the scenes of assets/scenes). An unstable contact spring adds it
     exponentially; we stop once it has gained the energy of lifting the body by 1 m
     or half its initial kinetic energy, whichever is larger.
     """
