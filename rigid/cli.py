@@ -166,22 +166,14 @@ def _run(args, units) -> int:
         from .engine.units import default_units
         units = default_units()
 
-    from .run.compile_guard import CompileGuard
-
-    # Ctrl-C while the kernels compile (before the first frame) ends the run at once.
-    guard = CompileGuard([*(args.export or ()), args.record, args.screenshot]).arm()
-    try:
-        return _simulate(args, config, units, bodies, camera)
-    finally:
-        guard.disarm()
-
-
-def _simulate(args, config, units, bodies, camera) -> int:
     from .runtime import init_taichi
     from .engine.simulator import Simulator
+    from .run.compile_guard import compile_note, ctrl_c_stops_at_once
 
-    backend = init_taichi(config.arch, config.fp64)
-    sim = Simulator(config, units, bodies=bodies)
+    compile_note()
+    with ctrl_c_stops_at_once():  # nothing to keep yet: Ctrl-C while Taichi starts and compiles ends the run
+        backend = init_taichi(config.arch, config.fp64)
+        sim = Simulator(config, units, bodies=bodies)
     if args.record:
         from .view.video import record
         result = record(sim, args.record, config.frames or HEADLESS_FRAMES, config.resolution,

@@ -47,23 +47,25 @@ def test_export_to_proc_exits_2_with_one_line_before_simulating():
 
 
 def test_ctrl_c_while_the_kernels_compile_stops_within_seconds(tmp_path):
-    """On an empty kernel cache the pile's first frame compiles for tens of seconds inside one
-    C++ call, where Python's own Ctrl-C handling waited for the whole compile."""
+    """On an empty kernel cache the pile's first frame compiles for tens of seconds inside C++
+    calls that hold Python's lock, where Python's own Ctrl-C handling waited for the compile."""
     import os
     import signal
     import subprocess
     import sys
     import time
 
-    from conftest import ROOT, SOLUTION
+    from conftest import ROOT, SOLUTION, default_sigint
 
     env = dict(os.environ, TI_OFFLINE_CACHE_FILE_PATH=str(tmp_path / "cache"))  # nothing compiled yet
     out = tmp_path / "pile.npz"
     proc = subprocess.Popen([sys.executable, str(SOLUTION), "--headless", "--frames", "5", "--scene",
                              "assets/scenes/pile.toml", "--export", str(out)], cwd=ROOT, env=env,
-                            stderr=subprocess.PIPE, stdout=subprocess.DEVNULL, text=True)
+                            stderr=subprocess.PIPE, stdout=subprocess.DEVNULL, text=True, preexec_fn=default_sigint)
     try:
+        seen = []
         for line in proc.stderr:  # the simulator is built; its substep's kernels compile next
+            seen.append(line)
             if line.startswith("simulating"):
                 break
         time.sleep(1.0)
@@ -72,13 +74,13 @@ def test_ctrl_c_while_the_kernels_compile_stops_within_seconds(tmp_path):
         proc.send_signal(signal.SIGINT)
         code = proc.wait(timeout=60)
         waited = time.monotonic() - sent
-        rest = proc.stderr.read()
+        rest = "".join(seen) + proc.stderr.read()
     finally:
         proc.kill()
         proc.wait()
-    assert code == 130, rest
+    assert code in (-signal.SIGINT, 130), rest  # ended by the signal (a shell says 130), or caught in Python
     assert waited < 5.0, f"Ctrl-C took {waited:.1f} s to act"
-    assert rest.strip().splitlines()[-1].startswith("interrupted while compiling kernels"), rest
+    assert rest.startswith("compiling kernels (first run only") and "Traceback" not in rest, rest
     assert not out.exists() and not list(tmp_path.glob(".pile.partial*"))
 
 
