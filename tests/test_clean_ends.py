@@ -154,3 +154,16 @@ def test_count_100000_exits_2_with_one_line():
     proc = run_cli("--headless", "--count", "100000")
     assert proc.returncode == 2 and "Traceback" not in proc.stderr, proc.stderr
     assert proc.stderr.strip().splitlines()[-1].startswith("error: count = 100000: 100,000 copies"), proc.stderr
+
+
+def test_many_bodies_above_the_engines_particle_limit_are_refused():
+    """Above 2^20 particles in colliding bodies the engine's parallel schedule crashed (SIGSEGV);
+    a compact block of 25,000 spheres (1,050,000 particles) now gets one line instead."""
+    from rigid.bodies.placement import MAX_COLLIDING_PARTICLES, scene_bodies
+    from rigid.config import SimConfig
+    from rigid.errors import UserError
+
+    assert MAX_COLLIDING_PARTICLES == 1 << 20
+    with pytest.raises(UserError, match=r"^the scene has 1,050,000 particles in bodies that collide, more than "
+                                        r"the 1,048,576 this version simulates; use a smaller --count"):
+        scene_bodies(SimConfig(count=25000, scale=0.05, walls=False, gravity=(0.0, 0.0, 0.0)).validate())
