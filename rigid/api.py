@@ -24,8 +24,8 @@ from .runtime import init_taichi
 
 
 def init(arch: str = "cpu", fp64: bool = False) -> str:
-    """Start Taichi (once per process): ``arch`` "cpu" or "gpu" (CUDA or a hardware Vulkan, else
-    the CPU with a note), float64 if ``fp64``. Returns the backend used."""
+    """Start Taichi (once per process): ``arch`` "cpu" or "gpu" (CUDA, Metal on a Mac or a hardware
+    Vulkan, else the CPU with a note), float64 if ``fp64``. Returns the backend used."""
     return init_taichi(arch, fp64)
 
 

@@ -173,7 +173,7 @@ def mesh_count(mesh: str) -> int:
 @functools.lru_cache(maxsize=32)
 def _mesh_count(path: str, _mtime: int, _size: int) -> int:
     try:
-        import trimesh  # deferred: 0.45 s of import time, and only for .glb and .stl
+        import trimesh  # deferred: slow to import, and only for .glb and .stl
 
         scene = trimesh.load(path, force="scene", process=False, maintain_order=True, merge_primitives=True)
         return max(1, len(scene.graph.nodes_geometry))

@@ -30,8 +30,8 @@ def init_taichi(arch: str = "cpu", fp64: bool = False, debug: bool = False, quic
     "vulkan" takes any Vulkan device, software ones (Mesa lavapipe) included.
 
     ``quick_compile``: skip Taichi's advanced IR optimisations (``advanced_optimization=False``;
-    LLVM still optimises the machine code). Kernels compile 2-3x faster (a lone body cold:
-    5.5 s against 9.6; a pile's pair stages: 13 s against 45) and run 10-20 % slower, so it
+    LLVM still optimises the machine code). Kernels compile several times faster and run a little
+    slower (report/bench_build.json measures building), so it
     suits processes that compile much and simulate little: the grader's children, whose runs
     are a few hundred substeps of ten particles, and the test suite (``RIGID_QUICK_COMPILE=1``,
     which every process it starts inherits). Simulations for users keep the default (None:
@@ -52,7 +52,7 @@ def init_taichi(arch: str = "cpu", fp64: bool = False, debug: bool = False, quic
         raise UserError(f"arch = {arch!r}: use one of {', '.join(ARCHES)}")
     backend = "cpu"
     if arch == "gpu":
-        for name in ("cuda", "vulkan"):
+        for name in gpu_candidates():
             if name == "vulkan" and not glob.glob("/dev/dri/renderD*") and sys.platform == "linux":
                 # Without a GPU render node the only Vulkan device is a software one (Mesa
                 # lavapipe, installed for drawing): slower than Taichi's own CPU backend.
@@ -61,7 +61,7 @@ def init_taichi(arch: str = "cpu", fp64: bool = False, debug: bool = False, quic
                 backend = name
                 break
         else:
-            print("note: --arch gpu: no CUDA or Vulkan GPU found (a software Vulkan does not count); "
+            print("note: --arch gpu: no CUDA, Metal or Vulkan GPU found (a software Vulkan does not count); "
                   "running on the CPU",
                   file=sys.stderr)
             _quiet_init(arch=ti.cpu, **common)
@@ -93,6 +93,12 @@ def _try_init(name: str, common: dict) -> bool:
     except Exception:
         return False
     return ti.lang.impl.current_cfg().arch == candidate
+
+
+def gpu_candidates() -> list:
+    """The backends to try for --arch gpu, in order: CUDA, then Metal on a Mac (Taichi's GPU
+    backend there; untested by this project: no Mac here), then Vulkan."""
+    return ["cuda"] + (["metal"] if sys.platform == "darwin" else []) + ["vulkan"]
 
 
 def _quiet_init(**kwargs):

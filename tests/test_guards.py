@@ -1,6 +1,6 @@
 """Runs that would go wrong quietly or not fit (issue 21): a Δt too small for float32, more
 particles than the memory holds, the time a long run has left, a body leaving the box.
-The README's bad-input table holds the command-line rows (tests/test_bad_input.py)."""
+The bad-input table of docs/bad-input.md holds the command-line rows (tests/test_bad_input.py)."""
 import re
 
 import numpy as np
@@ -99,7 +99,7 @@ def test_grid_limit_agrees_with_the_sampler():
 
     assert MAX_GRID ** 3 <= MAX_CELLS < (MAX_GRID + 1) ** 3
     SimConfig(particles="volume", grid=MAX_GRID).validate()
-    assert f"from 2 to {MAX_GRID}" in (ROOT / "README.md").read_text()
+    assert f"from 2 to {MAX_GRID}" in (ROOT / "docs" / "bad-input.md").read_text()
 
 
 # --- the time a long headless run has left (rigid.run.progress) -----------------------------------

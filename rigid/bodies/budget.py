@@ -1,12 +1,9 @@
 """Will the scene fit in memory? An estimate from the particle count, made before anything big
 is allocated, against the memory this machine (or its container) has free.
 
-The costs per particle are measured (peak RSS of a whole ``--headless --frames 1`` run, 2 CPU
-threads, Taichi 1.7.4): one body 150 bytes (--particles volume --grid 128: 0.96M particles,
-305 MB; --grid 256: 7.7M, 1.26 GB); many bodies 320 bytes (--count 2000 --scale 0.03: 84,000
-particles, 208 MB; --count 16000: 672,000, 385 MB); the process itself ~200 MB. Filling a
-mesh (rigid.bodies.sampling) needs about 3 bytes a grid cell and 100 bytes a particle on top,
-for a moment.
+The costs below (bytes a particle, one body or many, and the process itself) were measured as
+the peak RSS of whole ``--headless --frames 1`` runs of up to millions of particles. Filling a
+mesh (rigid.bodies.sampling) needs memory a grid cell and a particle on top, for a moment.
 """
 from __future__ import annotations
 

@@ -52,7 +52,7 @@ def entry_geometries(config) -> list[tuple[str, BodyGeometry]]:
 
 def read_mesh_parts(path: Path, scale: float = 1.0) -> list[tuple[str, Mesh]]:
     """(name, Mesh) per mesh placed in the file's scene: world-frame vertices, scaled, merged."""
-    import trimesh  # deferred: 0.45 s of import time
+    import trimesh  # deferred: slow to import
 
     try:
         placed = _stl_solids(path) if path.suffix.lower() == ".stl" else _scene_meshes(trimesh, path)

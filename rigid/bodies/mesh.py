@@ -52,7 +52,7 @@ def read_mesh(path: str | Path, scale: float = 1.0) -> Mesh:
     if path.suffix.lower() not in FORMATS:
         raise UserError(f"mesh file {path}: format {path.suffix or '(none)'} is not supported; "
                         f"use one of {', '.join(FORMATS)}")
-    from .objfile import read_plain_obj  # plain OBJ without trimesh: 0.45 s less start-up
+    from .objfile import read_plain_obj  # plain OBJ without trimesh: a faster start-up
 
     if path.suffix.lower() == ".stl":
         check_binary_stl_size(path)
@@ -137,7 +137,7 @@ def merge_coincident(vertices: np.ndarray, faces: np.ndarray, stl: bool = False)
 
 
 def _load_with_trimesh(path: Path) -> tuple[np.ndarray, np.ndarray]:
-    import trimesh  # deferred: 0.45 s of import time
+    import trimesh  # deferred: slow to import
 
     try:
         # process=False + maintain_order=True: keep the file's vertices as they are.

@@ -1,7 +1,7 @@
 """A reader for OBJ polygon meshes, so that start-up need not import trimesh, and so that
 relative face indices are read right.
 
-Importing trimesh costs ~0.45 s of a ~2 s start-up. This reader takes ``v x y z`` lines
+Importing trimesh is a large part of start-up. This reader takes ``v x y z`` lines
 (optionally with a colour), faces ``f a b c ...`` of three or more corners (each ``a``,
 ``a/t``, ``a//n`` or ``a/t/n``), and skips ``vt``/``vn``/``s``/``o``/``g``/``usemtl``/
 ``mtllib`` and comment lines: the file's vertices in file order, one mesh, faces 0-based.
@@ -11,8 +11,9 @@ maintain_order=True``; polygons are split into a fan (a, b, c), (a, c, d), ...
 A negative index counts back from the last vertex defined *before the face line*
 (``f -4 -3 -2 -1`` after four ``v`` lines is those four): trimesh 5.2 counts back from the
 end of the file instead, which gives wrong faces when ``v`` and ``f`` lines interleave, and
-raises on negative ``vt``/``vn`` indices (issue 15, item 3). Anything else (curves, lines,
-points, an index of 0 or past either end, garbled numbers) returns None and
+raises on negative ``vt``/``vn`` indices. A UTF-8 byte-order mark and CRLF line ends are read as
+any editor writes them. Anything else (curves, lines, points, an index of 0 or past either end,
+garbled numbers) returns None and
 ``rigid.bodies.mesh.load_mesh`` hands the file to trimesh, which also reports garbled files.
 """
 from __future__ import annotations
@@ -27,7 +28,9 @@ SKIPPED = {"vt", "vn", "s", "o", "g", "usemtl", "mtllib"}
 def read_plain_obj(path: str | Path) -> tuple[np.ndarray, np.ndarray] | None:
     """(vertices (V, 3) float64, faces (F, 3) int64 triangles) of an OBJ polygon mesh, else None."""
     try:
-        lines = Path(path).read_text().splitlines()
+        # utf-8-sig drops a byte-order mark (Windows editors write one), which would otherwise
+        # glue itself to the first keyword; splitlines takes CRLF and LF alike.
+        lines = Path(path).read_text(encoding="utf-8-sig").splitlines()
     except (OSError, UnicodeDecodeError):
         return None
     vertices, faces = [], []

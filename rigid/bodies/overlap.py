@@ -40,16 +40,31 @@ def check_start(config, bodies) -> None:
         touch = bodies[a].radius + bodies[b].radius
         depth = _deepest(points[a], points[b], touch)
         if depth > TOLERANCE * touch:
-            raise UserError(f"{names[a]} and {names[b]} overlap by {depth:.3g} m at the start (their particles' "
-                            f"spheres, radius {bodies[a].radius:.3g} and {bodies[b].radius:.3g} m); the "
-                            f"contact would fire them apart: move them apart (position) or lower count")
+            raise UserError(f"{names[a]} and {names[b]} overlap by {depth:.3g} m at the start "
+                            f"({_spheres(bodies[a], bodies[b], names[a], names[b])}); the contact would fire them apart: "
+                            f"{_fix(config)}")
+
+
+def _spheres(a, b, name_a: str, name_b: str) -> str:
+    """What overlaps: both bodies' particle spheres, or one's particle centres in the other's
+    spheres (a lone body's particles have no radius: "radius 0" read as a mistake)."""
+    if a.radius > 0 and b.radius > 0:
+        return f"their particles' spheres, radius {a.radius:.3g} and {b.radius:.3g} m"
+    point, sized = (name_a, b) if a.radius == 0 else (name_b, a)
+    return f"{point.split(' (')[0]}'s particles inside the other's particle spheres of radius {sized.radius:.3g} m"
+
+
+def _fix(config) -> str:
+    """Move them apart; a smaller count only where copies were asked for (the lattice of one
+    entry's copies never overlaps itself, but it may reach another body)."""
+    counts = [config.body_config(e).count for e in range(config.num_body_entries)]
+    return "move them apart (position)" + (" or use a smaller count" if max(counts, default=1) > 1 else "")
 
 
 def _close_pairs(points, bodies) -> np.ndarray:
     """(a, b) with a < b, in that order, of the bodies whose bounding spheres (about their particles'
     centre, holding every particle's sphere) meet, leaving out two statics and the meshes of one
-    file. A tree of the centres finds them: testing every pair in Python took 7 s for 2,000 bodies
-    and grew as the square."""
+    file. A tree of the centres finds them: testing every pair in Python grows as the square."""
     from scipy.spatial import cKDTree
 
     if len(bodies) < 2:

@@ -104,6 +104,10 @@ def scene_bodies(config) -> list[BodySpec]:
             reach = max(t.reach + float(np.linalg.norm(o)) for t, o in zip(templates, offsets))
         slots = lattice(np.asarray(body.position, float), body.count, 2.0 * reach * 1.02,
                         config.wall if config.walls else None)
+        if config.many_bodies and particles > MAX_COLLIDING_PARTICLES:
+            raise UserError(f"the scene has {particles:,} particles in bodies that collide, more than the "
+                            f"{MAX_COLLIDING_PARTICLES:,} this version simulates; use a smaller --count"
+                            + (" or --grid" if body.particles == "volume" else " or a coarser mesh"))
         for k, slot in enumerate(slots):
             q = template.orientation if given or body.count == 1 else random_orientation(rng)
             name = f"{stem}_{entry}_{k}" if body.count > 1 else f"{stem}_{entry}"
@@ -151,6 +155,8 @@ def lattice(first: np.ndarray, count: int, spacing: float, wall: float | None) -
         per_side = min(int(room // spacing) + 1, int(np.ceil(np.sqrt(count))))  # fill the floor
     else:
         per_side = _cube_side(count)
+    if wall is not None:
+        _check_height(count, per_side, spacing, wall)
     span = (per_side - 1) * spacing
     centre = first[[0, 2]].copy()
     if wall is not None:  # shift the layer so that it lies inside the walls
@@ -163,6 +169,27 @@ def lattice(first: np.ndarray, count: int, spacing: float, wall: float | None) -
         points.append(np.array([centre[0] - 0.5 * span + i * spacing, first[1] + layer * spacing,
                                 centre[1] - 0.5 * span + j * spacing]))
     return points
+
+
+# Many bodies: the engine's parallel schedule ends the process (SIGSEGV) above 2^20 particles
+# (1,048,572 ran, 1,048,614 did not); refused here, before Taichi starts, until the engine is fixed.
+MAX_COLLIDING_PARTICLES = 1 << 20
+MAX_STACK_HEIGHT = 20.0  # m from the first layer to the last: ten times the box's width
+
+
+def _check_height(count: int, per_side: int, spacing: float, wall: float) -> None:
+    """Copies stack upward in layers as wide as the box: too many make a tower (100,000 spheres
+    of the default size: 11,112 layers, 8.7 km) that falls for minutes before the first contact
+    and strains the engine's grid. Refuse it with the most copies this size allows."""
+    layers = -(-count // (per_side * per_side))
+    height = (layers - 1) * spacing
+    if height <= MAX_STACK_HEIGHT:
+        return
+    most = per_side * per_side * (int(MAX_STACK_HEIGHT // spacing) + 1)
+    raise UserError(f"count = {count}: {count:,} copies {spacing:.3g} m apart make {layers:,} layers of "
+                    f"{per_side} x {per_side}, {height:,.0f} m high, in a box {2 * wall:g} m wide (at most "
+                    f"{MAX_STACK_HEIGHT:g} m: {most:,} copies of this size); use a smaller --count or "
+                    f"--scale, or --no-walls")
 
 
 def _cube_side(count: int) -> int:

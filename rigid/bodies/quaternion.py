@@ -1,7 +1,7 @@
 """Quaternion to rotation matrix in float64 numpy (scalar first), for host-side poses.
 
 The one numpy copy of the formula: ``rigid.engine.rotation`` re-exports it beside the
-handout's ``ti.func`` twin, and placement uses it without importing scipy (0.3 s of start-up).
+handout's ``ti.func`` twin, and placement uses it without importing scipy (slow to import at start-up).
 """
 import numpy as np
 

@@ -8,9 +8,8 @@ parallel to z through the column's (x, y) is intersected with every triangle
 and a cell centre is inside when an odd number of crossings lie below it (the
 even–odd rule; each crossing flips a bit at the first cell above it and a
 cumulative XOR along the column gives the parity, no sort needed). Cost: O(columns touched by
-triangles + cells), 0.04–0.1 s for a million particles here, where trimesh's
-``contains`` (a ray test per point) takes minutes and ``voxelized().fill()``
-keeps the boundary voxels (4–6 % too much inertia at 64 cells).
+triangles + cells), where trimesh's ``contains`` is a ray test per point and
+``voxelized().fill()`` keeps the boundary voxels (too much inertia).
 
 Exactness traps and what is done about them:
 - a column through a triangle edge or vertex would count that crossing twice
@@ -86,7 +85,8 @@ def check_closed(vertices: np.ndarray, faces: np.ndarray) -> None:
     _e, uses = np.unique(edges, axis=0, return_counts=True)
     bad = int(np.count_nonzero(uses != 2))
     if bad:
-        raise UserError(f"the mesh is not watertight ({bad} edges are not shared by exactly two "
+        edges_are = "1 edge is" if bad == 1 else f"{bad} edges are"
+        raise UserError(f"the mesh is not watertight ({edges_are} not shared by exactly two "
                         f"triangles), so --particles volume cannot tell inside from outside; "
                         f"use --particles vertex or repair the mesh")
 

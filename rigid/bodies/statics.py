@@ -55,7 +55,7 @@ def surface_particles(vertices: np.ndarray, faces: np.ndarray, h: float, where: 
     """The mesh's vertices after splitting its triangles to edges <= h, coincident ones merged."""
     if len(faces) == 0:
         raise UserError(f"{where}: the mesh has no triangles; a static mesh needs a surface")
-    import trimesh  # deferred: 0.45 s of import time
+    import trimesh  # deferred: slow to import
 
     area = float(trimesh.Trimesh(vertices, faces, process=False).area)
     if area / (h * h) > MAX_STATIC_PARTICLES:

@@ -4,7 +4,7 @@ The report's text is written once, as blocks; reportlab lays out the PDF
 (``invariant=1``: the same blocks give the same bytes, no timestamps). The PDF's text is
 set in DejaVu Sans (and Sans Mono for code), the TTFs matplotlib ships, embedded as
 subsets: the 14 standard PDF fonts are not embedded and have no glyphs for ⁻, ᵀ or ‖,
-which viewers drew as black boxes (issue 15, item 10).
+which viewers draw as black boxes.
 """
 from __future__ import annotations
 

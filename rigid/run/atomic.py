@@ -23,14 +23,31 @@ def check_output_path(path, suffixes: tuple[str, ...] = ()) -> Path:
         raise UserError(f"output folder {path.parent} does not exist; create it or pick another path")
     if not os.access(path.parent, os.W_OK):
         raise UserError(f"output folder {path.parent} is not writable; pick another path")
+    # os.access trusts the permission bits (root passes everything): only creating the file the
+    # run will write first (atomic_output's partial name) shows that the folder takes files,
+    # e.g. /proc or a read-only mount does not. Made and removed now, before the simulation.
+    tmp = partial_path(path)
+    try:
+        with open(tmp, "ab"):
+            pass
+        tmp.unlink()
+    except OSError as err:
+        reason = err.strerror or type(err).__name__
+        raise UserError(f"output folder {path.parent} does not take new files (creating {tmp.name} there: "
+                        f"{reason}); pick another path") from None
     return path
+
+
+def partial_path(path: Path) -> Path:
+    """The temporary name a complete file is renamed from: hidden, beside it."""
+    return path.with_name(f".{path.stem}.partial{path.suffix}")
 
 
 @contextlib.contextmanager
 def atomic_output(path):
     """Yield a temporary path beside ``path``; on success rename it to ``path``."""
     path = Path(path)
-    tmp = path.with_name(f".{path.stem}.partial{path.suffix}")
+    tmp = partial_path(path)
     try:
         yield tmp
         os.replace(tmp, path)

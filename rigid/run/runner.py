@@ -12,6 +12,7 @@ import threading
 import time
 from dataclasses import dataclass
 
+from .compile_guard import ctrl_c_stops_at_once
 from .diagnostics import Trajectory, first_blow_up, stability_hint
 from .escape import first_escape
 from .exports import write_exports
@@ -21,8 +22,8 @@ from .progress import FrameBar, TimeLeft
 def energy_bound(mass: float, gravity, kinetic0: float) -> float:
     """How far the total energy may rise above its start before we call it a blow-up.
 
-    The body has no energy source: only the integrator's error adds energy (under 1 J
-    over 10 s in every scene of assets/scenes). An unstable contact spring adds it
+    The body has no energy source: only the integrator's error adds energy (a small
+    fraction of this bound in the scenes of assets/scenes). An unstable contact spring adds it
     exponentially; we stop once it has gained the energy of lifting the body by 1 m
     or half its initial kinetic energy, whichever is larger.
     """
@@ -60,7 +61,8 @@ def run_frames(sim, frames: int | None, export_path=None, on_frame=None) -> RunR
     cfg = sim.config
     m = sim.model  # mass (B,), inertia_body (B, 3, 3); the NPZ of one body drops the body axis
     trajectory = Trajectory(m.body_mass_np, m.inertia_body_np, cfg.dt, sim.substeps, cfg.fp64)
-    start = sim.current_block()
+    with ctrl_c_stops_at_once():  # until the first frame is done, Ctrl-C ends the run at once (compile_guard)
+        start = sim.current_block()
     trajectory.append_block(start)
     e0, bound = _baseline(sim, start)
     result = RunResult(0, "done")
@@ -70,14 +72,17 @@ def run_frames(sim, frames: int | None, export_path=None, on_frame=None) -> RunR
     bar = FrameBar(frames, "simulating") if eta is not None else None  # after the first chunk (compiling)
     try:
         with _sigint_between_chunks(on_frame is None) as interrupted:
-            if on_frame is not None and on_frame(sim, 0):
-                e0, bound = _baseline(sim, sim.current_block())
+            if on_frame is not None:
+                with ctrl_c_stops_at_once():  # drawing's kernels compile in frame 0
+                    if on_frame(sim, 0):
+                        e0, bound = _baseline(sim, sim.current_block())
             while frames is None or result.frames < frames:
                 if interrupted():
                     raise KeyboardInterrupt
                 size = chunk.next(None if frames is None else frames - result.frames)
                 began = time.perf_counter()
-                block = sim.advance_frames(size)
+                with ctrl_c_stops_at_once() if result.frames == 0 else contextlib.nullcontext():
+                    block = sim.advance_frames(size)  # the first compiles the substep's kernels
                 chunk.took(time.perf_counter() - began)
                 if eta is not None:  # one line on stderr once the run looks long: its time left
                     eta.chunk_done(result.frames + size, size, time.perf_counter() - began)

@@ -12,9 +12,10 @@ Keys (the table's and the flag's, ``--camera fov=35 follow=centre``):
 
 Without position and look_at, the default frames what is in the scene: one body keeps the
 box in view (it crosses the box); many bodies are framed by their bounding box, widened by the
-largest body's size (where they topple to) and reaching down to the floor they will fall on
-(inside the box's walls), from a height (the pile is seen from above its top layer, the
-row of dominoes fills the picture). The orbit camera (orbit.py) starts from this view, and the
+largest body's size (where they topple to), reaching down to the floor they will fall on and,
+with walls, holding the box's whole floor (bodies slide and topple across it: framing their
+bounding box alone cut the box off in the dominoes', ramp's and bounce's videos), from a height
+(the pile is seen from above its top layer). The orbit camera (orbit.py) starts from this view, and the
 mouse orbits and zooms it from there; a follow mode moves its target every frame.
 """
 from __future__ import annotations
@@ -123,11 +124,10 @@ def framed_view(sim, aspect: float, fov: float = DEFAULT_FOV) -> dict:
     reach = 2.0 * _largest_radius(sim)
     lo[[0, 2]] -= reach
     hi[[0, 2]] += reach
-    if sim.params.walls:  # ... and never through the walls
+    if sim.params.walls:  # the whole floor of the box: bodies slide and topple across it
         wall, floor = float(sim.params.wall), float(sim.params.floor)
         lo[1] = min(lo[1], floor)
-        lo[[0, 2]] = np.maximum(lo[[0, 2]], -wall)
-        hi[[0, 2]] = np.minimum(hi[[0, 2]], wall)
+        lo[[0, 2]], hi[[0, 2]] = -wall, wall
     centre = 0.5 * (lo + hi)
     half = np.maximum(0.5 * (hi - lo), 0.5 * MIN_EXTENT)
     return dict(target=tuple(centre), azimuth_deg=MANY_AZIMUTH, elevation_deg=MANY_ELEVATION,

@@ -48,6 +48,11 @@ def overlay_text(time: float, energy: float, bodies: int) -> str:
     return f"t {time:.2f} s \u00b7 total energy {joules} J \u00b7 {bodies} {'body' if bodies == 1 else 'bodies'}"
 
 
+def moving_bodies(sim) -> int:
+    """The bodies the overlay counts: a [[static]] mesh (the bowl) is scenery, not one of them."""
+    return sum(1 for body in sim.bodies if not body.static)
+
+
 def _font(size: int):
     """DejaVu Sans (shipped with matplotlib, a dependency), else Pillow's own scalable font."""
     try:

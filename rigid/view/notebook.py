@@ -18,7 +18,7 @@ import tempfile
 import numpy as np
 
 from .encoders import open_writer
-from .imaging import TextOverlay, overlay_text
+from .imaging import TextOverlay, moving_bodies, overlay_text
 
 DEFAULT_SIZE = (640, 360)
 
@@ -101,7 +101,7 @@ def _draw_run(sim, frames: int, size, camera, take, overlay: bool = True) -> dic
             if text is not None:
                 row = blocks[-1]
                 energy = float(row["kinetic_energy"][-1] + row["potential_energy"][-1])
-                text.draw(picture, overlay_text(sim.time, energy, sim.num_bodies))
+                text.draw(picture, overlay_text(sim.time, energy, moving_bodies(sim)))
             take(picture)
     finally:
         renderer.close()

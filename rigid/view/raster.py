@@ -1,7 +1,7 @@
 """A small software renderer in Taichi kernels: triangles, lines and particles with a depth test.
 
 Why not GGUI's 3D scene: on Mesa's lavapipe 22.3 (Debian 12's software Vulkan) every draw of
-``scene.mesh``, ``scene.particles`` or ``scene.lines`` keeps ~100-300 KB until the window is
+``scene.mesh``, ``scene.particles`` or ``scene.lines`` keeps memory until the window is
 destroyed. Lavapipe inlines uniform values into shaders that branch or loop on them (GGUI's
 mesh and particle shaders loop to ``point_light_count``): each draw whose uniform buffer
 changed clones the shader's NIR under the pipeline and builds a new shader state
@@ -20,7 +20,7 @@ GGUI's ``canvas.set_image`` takes it.
 Every array is a Taichi ndarray given to module-level kernels as an argument (the inputs too:
 vec3 ndarrays of vertices, normals, colours, an i32 ndarray of indices), so the kernels compile
 once per process and element type: a second renderer, a new mesh or a larger triangle list
-reuses them (kernels that captured a renderer's fields compiled again for each, ~1-2 s).
+reuses them (kernels that captured a renderer's fields would compile again for each).
 Only the window's ``image`` is a field (``canvas.set_image`` takes fields). The kernels that bring
 primitives in are in raster_emit.py; those that make pixels, here.
 """
@@ -234,11 +234,10 @@ def _resolve(vs: ti.types.ndarray(), vn: ti.types.ndarray(), vp: ti.types.ndarra
              shadows: ti.template()):
     height = rgba.shape[0]
     # Runs of a column's rows in parallel, each run's rows in a loop: an ndrange over run-time
-    # sizes divides to find each pixel's (x, y), which cost a fifth of this kernel at 1280 x 720
-    # (ROW_RUNS is a constant: its division is a shift). A column each was slower at 640 x 360:
-    # Taichi's CPU backend hands a loop out 512 iterations at a time, so 640 columns ran as 512
-    # and 128. (Rows in parallel, to write the file's picture along its rows, measured slower:
-    # the keys' reads then go across theirs.)
+    # sizes divides to find each pixel's (x, y), a large share of this kernel (ROW_RUNS is a
+    # constant: its division is a shift). Not one column each: Taichi's CPU backend hands a loop
+    # out 512 iterations at a time, so 640 columns would run as 512 and 128. Not rows in
+    # parallel: the keys' reads would then go across theirs.
     for item in range(key.shape[0] * ROW_RUNS):
         x, y0, y1 = _column_run(key, item)
         for y in range(y0, y1):

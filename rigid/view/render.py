@@ -50,7 +50,7 @@ class SceneRenderer:
             require_vulkan("the window")
             self._imgui_ini = Path("imgui.ini").resolve()  # see close()
             try:
-                # No vsync: fps_limit paces the frames (lavapipe's vsync under Xvfb cost ~8 ms a frame)
+                # No vsync: fps_limit paces the frames (lavapipe's vsync under Xvfb costs time every frame)
                 self.window = ti.ui.Window(title, size, vsync=False, show_window=True, fps_limit=fps_limit)
             except RuntimeError as err:  # a Vulkan the probe could not see through
                 raise UserError(f"GGUI could not start ({err}); {INSTALL_HINT}") from None

@@ -83,10 +83,8 @@ def _shade(shade: ti.types.ndarray(), boxes: ti.types.ndarray(), blobs: ti.types
     # that row: every cell gets its factors in body order, as from a loop over all bodies at
     # each cell, for rows x bodies box tests instead of cells x bodies (1,000 bodies: 96
     # thousand, not 9.2 million). Taichi's CPU backend runs a loop of 96 on one thread (it hands
-    # out 512 iterations at a time; rigid.engine.schedule), and still: 1,000 bodies 30 ms of wall
-    # time (1.8 threads busy) -> 13 ms on one; 120 bodies 3.1-3.4 -> 1.2.
-    # The shade agrees with that loop's to 8e-7 (LLVM contracts q differently); the pictures
-    # of the pile, the bowl and the sphere came out byte for byte the same.
+    # out 512 iterations at a time; rigid.engine.schedule), which is still faster here.
+    # The shade agrees with that loop's to float32 round-off (LLVM contracts q differently).
     box = boxes[0]
     for i in range(SIZE):
         for k in range(SIZE):

@@ -16,7 +16,7 @@ from pathlib import Path
 from ..run.atomic import atomic_output
 from ..run.progress import FrameBar
 from .encoders import BackgroundWriter, open_writer
-from .imaging import TextOverlay, overlay_text, save_png
+from .imaging import TextOverlay, moving_bodies, overlay_text, save_png
 from .interrupt import ctrl_c_between_frames
 from ..run.runner import RunResult, run_frames
 
@@ -67,7 +67,7 @@ def _record_frames(sim, renderer, path: Path, frames: int, size, export_path, pr
                         frame = renderer.read_rgba()
                         snap = sim.snapshot()
                         energy = snap["kinetic_energy"] + snap["potential_energy"]
-                        overlay.draw(frame, overlay_text(sim.time, energy, sim.num_bodies))
+                        overlay.draw(frame, overlay_text(sim.time, energy, moving_bodies(sim)))
                         writer.write(frame)
                         last = frame
                         bar.update(i + 1)

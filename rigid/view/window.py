@@ -168,7 +168,7 @@ class _WindowLoop:
         self.renderer.draw()
         pressed = self.panel.draw(self.window.get_gui(), self.fps, self.timing)
         pressed["grabbing"] = grabbing
-        # A read-back costs ~10 ms at 1280x720 in software: only for the frame a screenshot keeps
+        # A read-back is slow in software: only for the frame a screenshot keeps
         # (every frame when the window runs until closed: any frame may be the last).
         if self.screenshot and (self.frames is None or self.steps >= self.frames):
             self.last_frame = self.renderer.read_rgba()
