@@ -77,8 +77,7 @@ class SimConfig:
 
     @property
     def many_bodies(self) -> bool:
-        """Whether the scene has several bodies (which collide with one another) or one.
-        A mesh file holding several meshes (``mesh_count``) is several bodies."""
+        """Whether the scene has several bodies (a file of several meshes, ``mesh_count``, is several)."""
         entries = self.bodies or ({},)
         return len(entries) > 1 or any(b.get("count", self.count) > 1 for b in entries) \
             or mesh_count(entries[0].get("mesh", self.mesh)) > 1
@@ -151,18 +150,15 @@ SCENE_KEYS = ({f.name for f in fields(SimConfig)} - {"bodies", "planes", "static
 # Keys a [[body]] table may set; at the top level they are every body's defaults.
 BODY_KEYS = {"mesh", "scale", "position", "orientation", "initial_velocity", "initial_angular_velocity",
              "particle_mass", "particles", "grid", "particle_radius", "count", "drag", *MATERIAL_KEYS}
-_VECTOR_KEYS = {"position", "initial_velocity", "initial_angular_velocity", "gravity", "resolution",
-                "orientation"}
+_VECTOR_KEYS = {"position", "initial_velocity", "initial_angular_velocity", "gravity", "resolution", "orientation"}
 
 
-# Formats whose file may hold several meshes (trimesh reads them as a Scene): a GLB's mesh nodes,
-# an ASCII STL's solids. An OBJ is one mesh (rigid.bodies.objfile joins its o/g groups).
+# Formats whose file may hold several meshes (a GLB's mesh nodes, an ASCII STL's solids); an OBJ is one.
 GROUP_FORMATS = (".glb", ".stl")
 
 
 def mesh_count(mesh: str) -> int:
-    """How many meshes a mesh file's scene places, so how many bodies it makes (rigid.bodies.group
-    splits them); 1 for other formats, and for a missing or unreadable file (read_mesh says why)."""
+    """How many meshes (bodies) a mesh file places; 1 for other formats and unreadable files (read_mesh says why)."""
     path = Path(mesh)
     if path.suffix.lower() not in GROUP_FORMATS or not path.is_file():
         return 1
@@ -278,16 +274,13 @@ def _finite(name, value):
         raise UserError(f"{name} = {value}: use a finite number")
 
 
-def _positive(name, value):
+def _positive(name, value, zero_ok=False):
     _finite(name, value)
-    if value <= 0:
-        raise UserError(f"{name} = {value}: use a positive number")
+    if value < 0 or (value == 0 and not zero_ok):
+        raise UserError(f"{name} = {value}: use {'zero or ' if zero_ok else ''}a positive number")
 
 
-def _non_negative(name, value):
-    _finite(name, value)
-    if value < 0:
-        raise UserError(f"{name} = {value}: use zero or a positive number")
+_non_negative = functools.partial(_positive, zero_ok=True)
 
 
 def _quaternion(name, value) -> tuple:

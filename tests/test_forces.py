@@ -79,3 +79,21 @@ def test_bad_spring_tables_are_one_line_each(units, table, message):
     with pytest.raises(UserError, match=message) as err:
         _sim(units, springs=(table,))
     assert "\n" not in str(err.value) and str(err.value).startswith("[[spring]] 1:")
+
+
+def test_springs_are_drawn_as_lines_between_their_ends(units):
+    from rigid.view.render import SceneRenderer
+
+    # A sphere hung 0.3 m below a hook by a spring: the hook and the top of the sphere, in the world.
+    spring = dict(bodies=[-1, 0], points=[[0.0, 0.6, 0.0], [0.0, 0.3, 0.0]], stiffness=50.0)
+    sim = _sim(units, particle_mass=0.01, springs=(spring,), walls=True)
+    np.testing.assert_allclose(sim.spring_ends(), [[0.0, 0.6, 0.0], [0.0, 0.3, 0.0]], atol=1e-6)
+    renderer = SceneRenderer(sim, (160, 120), offscreen=True)
+    renderer.draw()
+    with_spring = renderer.read_rgba()[..., :3].astype(int)
+    renderer._scene_springs = None
+    renderer.draw()
+    without = renderer.read_rgba()[..., :3].astype(int)
+    changed = np.abs(with_spring - without).sum(axis=-1) > 30
+    assert 3 <= changed.sum() < 0.02 * changed.size, "a thin line, somewhere"
+    assert with_spring[changed].mean() < without[changed].mean(), "drawn darker than what lies behind it"

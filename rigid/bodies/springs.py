@@ -111,6 +111,16 @@ def resolve_springs(tables, positions: np.ndarray, orientations: np.ndarray) -> 
     return springs
 
 
+def spring_ends(springs: list[Spring], x: np.ndarray, q: np.ndarray) -> np.ndarray:
+    """(2 S, 3) world positions of each spring's two ends, for bodies at ``x`` (B, 3), ``q`` (B, 4)."""
+    ends = []
+    for s in springs:
+        for body, point in ((s.a, s.point_a), (s.b, s.point_b)):
+            p = np.asarray(point, np.float64)
+            ends.append(p if body == WORLD else np.asarray(x[body], np.float64) + quaternion_to_matrix_np(q[body]) @ p)
+    return np.array(ends).reshape(-1, 3)
+
+
 def spring_energy(springs: list[Spring], x: np.ndarray, q: np.ndarray) -> np.ndarray:
     """½ k (|d| − l0)² summed over the springs, for each row of bodies' states ``x`` (F, B, 3),
     ``q`` (F, B, 4): float64 (F,)."""

@@ -14,7 +14,10 @@
                 list_growth.py: longer lists where one overflowed (the chunk run again); skin.py: the
                 lists' skin adapted to how often they are rebuilt
   sleep.py      bodies at rest stop being integrated until something touches them
-  grab.py       the mouse's spring on one particle (runtime values in WorldArgs.values)
+  forces.py     the one place for forces other than contact: on every particle (drag), at points of
+                a body (the grab, [[spring]]s), all through TODO 3 and 4
+  grab.py       the mouse's spring's runtime values (WorldArgs.values); pushes.py: impulses, the grab,
+                waking sleepers (the Simulator's methods)
   materials.py  restitution e -> each contact's damper, the pair rules; damping_table.py: ζ'(e, ωΔt,
                 load) from each scheme's own clamped oscillator; material_stages.py: the force
                 stages when a scene sets materials, planes or static meshes

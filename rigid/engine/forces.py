@@ -92,7 +92,8 @@ def point_wrench(u: ti.template(), model: ti.template(), state: ti.template(), w
             r0 = body_offset(model, held)
             r = matvec(R, r0)
             target = ti.Vector([world.values[GRAB_TX], world.values[GRAB_TX + 1], world.values[GRAB_TX + 2]])
-            f = world.values[GRAB_K] * (target - (x + r)) - world.values[GRAB_C] * (state.v[b] + state.omega[b].cross(r))
+            v_p = state.v[b] + state.omega[b].cross(r)
+            f = world.values[GRAB_K] * (target - (x + r)) - world.values[GRAB_C] * v_p
             F += u.total_force_term(f)
             tau += u.torque_term(x + r, x, R, r0, f)
     for s in range(ti.cast(world.values[NUM_SPRINGS], ti.i32)):  # in index order: the sums' order is fixed

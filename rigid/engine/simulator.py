@@ -18,10 +18,10 @@ from ..bodies.mesh import BodyGeometry
 from ..bodies.colliders import check_colliders, uses_materials
 from ..bodies.overlap import check_start
 from ..bodies.placement import BodySpec, check_inside_box, scene_bodies
-from ..bodies.springs import resolve_springs, spring_energy
+from ..bodies.springs import resolve_springs, spring_ends, spring_energy
 from ..bodies.statics import static_bodies
 from .arrays import clear, download, host_float, upload
-from .grab import default_spring, holding, released
+from .pushes import Pushes
 from .kernels import engine_kernels
 from .list_growth import ListGrowth
 from .scratch import build_pose, make_scratch, particle_diameter
@@ -34,7 +34,7 @@ from .state import Params, State
 from .units import check_units
 
 
-class Simulator:
+class Simulator(Pushes):
     def __init__(self, config, units=None, geometry: BodyGeometry | None = None,
                  bodies: list[BodySpec] | None = None, schedule: str | None = None):
         """Build from ``config`` (meshes, scales, particles; rigid.config.SimConfig), or from a
@@ -167,7 +167,8 @@ class Simulator:
         self.bodies = bodies
 
     def step_frame(self, substeps: int | None = None):
-        """One frame (1/60 s, or ``substeps`` substeps); its row is kept on the device."""
+        """One frame (int(1/60 // dt) substeps, 16 ms at the default dt; or ``substeps`` substeps);
+        its row is kept on the device."""
         n = self.substeps if substeps is None else int(substeps)
         self._run(1, n)
         self.time += n * self.params.dt
@@ -220,50 +221,6 @@ class Simulator:
                                                self.params.args, self.scratch, self.rows.args)
         return self._launches
 
-    def wake(self, bodies=None):
-        """Wake bodies (all by default; an index or a list of indices) that sleep (sleep.py): a
-        grab or any outside push should call this for the body it moves."""
-        if bodies is None:  # every body: a parameter change since the last run is then taken care of
-            self._params_version = self.params.version
-            clear(self.state.sleep)
-            return
-        sleep = download(self.state.sleep)
-        sleep[np.atleast_1d(np.asarray(bodies, int))] = 0
-        upload(self.state.sleep, sleep)
-
-    def asleep(self) -> np.ndarray:
-        """(B,) bool: which bodies sleep now (at rest, not integrated; the window greys them)."""
-        return download(self.state.sleep)[:, 0] != 0
-
-    def apply_impulse(self, particle: int, impulse):
-        """Hit particle ``particle`` (its index in the mesh files' order, body after body) with
-        impulse J (N s, world frame): ΔP = J, ΔL = r × J."""
-        if not 0 <= particle < self.model.num_particles:
-            raise IndexError(f"particle {particle} out of range 0..{self.model.num_particles - 1}")
-        slot = int(self.model.slot_of[particle])
-        self.kernels.apply_impulse(self.model.args, self.state.args, slot, [float(c) for c in impulse])
-
-    def grab(self, particle: int, target, stiffness: float | None = None, damping: float | None = None):
-        """Hold particle ``particle`` (mesh files' order) on a damped spring to ``target`` (world,
-        m) from the next substep on: f = k (target − p) − c v_p, a particle force through TODO 3
-        and 4 (grab.py). Default k, c: a 2 Hz, critically damped spring on the body's mass. Call
-        again to move the target; ``release()`` lets go (a reset too)."""
-        if not 0 <= particle < self.model.num_particles:
-            raise IndexError(f"particle {particle} out of range 0..{self.model.num_particles - 1}")
-        body = int(np.searchsorted(np.cumsum(self.model.body_count_np), particle, side="right"))
-        k, c = default_spring(float(self.model.body_mass_np[body]))
-        k, c = k if stiffness is None else float(stiffness), c if damping is None else float(damping)
-        self.params.grab_values = holding(int(self.model.slot_of[particle]), target, k, c)
-        self.params.upload(wakes=False)
-        self.grabbed = int(particle)
-        self.wake(body)  # a held body must move (sleep.py)
-
-    def release(self):
-        """Let go of the grabbed particle (nothing if none is held)."""
-        self.params.grab_values = released()
-        self.params.upload(wakes=False)
-        self.grabbed = None
-
     def snapshot(self) -> dict:
         """The state and energies as float64 numpy: ``t``; per body ``x`` (B, 3), ``q`` (B, 4),
         ``v``, ``omega``, ``P``, ``L`` (B, 3); ``kinetic_energy``, ``potential_energy`` totals."""
@@ -279,6 +236,10 @@ class Simulator:
         else:
             launch["finish_frame"](slot=0)
         return self._block([self.time])
+
+    def spring_ends(self) -> np.ndarray:
+        """(2 S, 3) float64 world positions of the [[spring]]s' ends, each spring's two in turn."""
+        return spring_ends(self.springs, download(self.state.x), download(self.state.q))
 
     def particle_positions(self) -> np.ndarray:
         """(N, 3) float64 world positions of the particles, in the mesh files' order."""

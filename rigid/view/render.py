@@ -34,6 +34,7 @@ TILE_COLORS = ((0.86, 0.87, 0.9), (0.74, 0.76, 0.8))
 FLOOR_TILES = 8  # per side
 GRID_COLOR = (0.72, 0.74, 0.78)
 SPRING_COLOR = (0.85, 0.1, 0.1)
+SCENE_SPRING_COLOR = (0.15, 0.15, 0.2)  # a scene's [[spring]]s (the grab's is SPRING_COLOR)
 GRID_HALF_WIDTH, GRID_STEP = 2.0, 0.25  # m: without walls, lines every 25 cm on the floor plane, 4 m across
 AMBIENT, LIGHT = (0.35, 0.35, 0.35), ((2.5, 4.0, 3.5), (0.75, 0.75, 0.75))
 
@@ -62,6 +63,7 @@ class SceneRenderer:
         self.wireframe = False
         self.spring = None  # (from, to): the mouse's grab, drawn as a line (grab.py)
         self._spring_line = ti.Vector.ndarray(3, ti.f32, shape=2)
+        self._scene_springs = ti.Vector.ndarray(3, ti.f32, shape=2 * len(sim.springs)) if sim.springs else None
         self._build_box(float(sim.params.floor), float(sim.params.wall))
         self.planes = plane_drawing(sim)  # [[plane]] tables (planes.py)
         m = sim.model
@@ -153,6 +155,9 @@ class SceneRenderer:
             upload(self.particles, sim.particle_positions())
             raster.particles(self.particles, radius=0.015, color=BODY_COLOR,
                              per_vertex_color=self.particle_colors)
+        if self._scene_springs is not None:  # the scene's springs, as lines between their ends
+            upload(self._scene_springs, sim.spring_ends())
+            raster.lines(self._scene_springs, width=2.0, color=SCENE_SPRING_COLOR)
         if self.spring is not None:
             upload(self._spring_line, self.spring)
             raster.lines(self._spring_line, width=2.5, color=SPRING_COLOR)
