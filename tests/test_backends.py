@@ -51,3 +51,10 @@ def test_a_backend_asked_by_name_runs_there_or_says_so_in_one_line():
     assert proc.returncode == 2
     assert proc.stderr.strip().splitlines() == ["error: --arch cuda: Taichi found no cuda device here; use --arch cpu, or --arch gpu to "
                      "take whatever GPU there is"], proc.stderr
+
+
+def test_importing_and_running_the_engine_replaces_nothing_in_taichi():
+    proc = subprocess.run([sys.executable, str(HERE / "taichi_untouched_worker.py")], capture_output=True,
+                          text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    assert proc.stdout.strip().splitlines()[-1] == "same", proc.stdout

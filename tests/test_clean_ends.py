@@ -156,14 +156,20 @@ def test_count_100000_exits_2_with_one_line():
     assert proc.stderr.strip().splitlines()[-1].startswith("error: count = 100000: 100,000 copies"), proc.stderr
 
 
-def test_many_bodies_above_the_engines_particle_limit_are_refused():
-    """Above 2^20 particles in colliding bodies the engine's parallel schedule crashed (SIGSEGV);
-    a compact block of 25,000 spheres (1,050,000 particles) now gets one line instead."""
-    from rigid.bodies.placement import MAX_COLLIDING_PARTICLES, scene_bodies
-    from rigid.config import SimConfig
-    from rigid.errors import UserError
+def test_the_parallel_builds_chunks_of_slots_are_exact_past_a_million_particles(ti_cpu):
+    """The parallel build's active list cuts the N slots into chunks at n k // chunks; n k overflowed
+    an i32 from 2^20 particles at 2,048 chunks, and the schedule crashed (SIGSEGV). Against Python's
+    exact integers, for sizes around that and the grid's chunk counts."""
+    import taichi as ti
 
-    assert MAX_COLLIDING_PARTICLES == 1 << 20
-    with pytest.raises(UserError, match=r"^the scene has 1,050,000 particles in bodies that collide, more than "
-                                        r"the 1,048,576 this version simulates; use a smaller --count"):
-        scene_bodies(SimConfig(count=25000, scale=0.05, walls=False, gravity=(0.0, 0.0, 0.0)).validate())
+    from rigid.engine.neighbours import chunk_start
+
+    @ti.kernel
+    def starts(n: ti.i32, chunks: ti.i32, out: ti.types.ndarray(dtype=ti.i32, ndim=1)):
+        for k in range(chunks + 1):
+            out[k] = chunk_start(n, chunks, k)
+
+    for n, chunks in ((1_048_572, 2048), (1_048_614, 2048), (1_050_000, 16384), (4_200_000, 16384), (1000, 8)):
+        out = np.zeros(chunks + 1, np.int32)
+        starts(n, chunks, out)
+        assert out.tolist() == [n * k // chunks for k in range(chunks + 1)], (n, chunks)

@@ -104,10 +104,6 @@ def scene_bodies(config) -> list[BodySpec]:
             reach = max(t.reach + float(np.linalg.norm(o)) for t, o in zip(templates, offsets))
         slots = lattice(np.asarray(body.position, float), body.count, 2.0 * reach * 1.02,
                         config.wall if config.walls else None)
-        if config.many_bodies and particles > MAX_COLLIDING_PARTICLES:
-            raise UserError(f"the scene has {particles:,} particles in bodies that collide, more than the "
-                            f"{MAX_COLLIDING_PARTICLES:,} this version simulates; use a smaller --count"
-                            + (" or --grid" if body.particles == "volume" else " or a coarser mesh"))
         for k, slot in enumerate(slots):
             q = template.orientation if given or body.count == 1 else random_orientation(rng)
             name = f"{stem}_{entry}_{k}" if body.count > 1 else f"{stem}_{entry}"
@@ -171,9 +167,6 @@ def lattice(first: np.ndarray, count: int, spacing: float, wall: float | None) -
     return points
 
 
-# Many bodies: the engine's parallel schedule ends the process (SIGSEGV) above 2^20 particles
-# (1,048,572 ran, 1,048,614 did not); refused here, before Taichi starts, until the engine is fixed.
-MAX_COLLIDING_PARTICLES = 1 << 20
 MAX_STACK_HEIGHT = 20.0  # m from the first layer to the last: ten times the box's width
 
 

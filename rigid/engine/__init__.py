@@ -26,13 +26,10 @@
                 schedule.py: serial or parallel; launch.py: launches with their arguments set once;
                 threads.py: Taichi's CPU workers pinned one to a core for the parallel schedule
   rows.py       a row of state per frame, for the host; simulator.py: the facade
-  units.py      the TODO units' contract; rotation.py, matvec.py: helpers; frontend.py: Taichi's
-                frontend made cheaper (quick decorators; each function's source and each AST
-                node's debug string read once), installed when the engine is imported
+  units.py      the TODO units' contract; rotation.py, matvec.py: helpers
+
+Nothing here replaces a function of Taichi's (tests/test_backends.py checks).
 
 May import the base modules (``rigid.config``, ``rigid.errors``) and ``rigid.bodies``; never
 ``run``, ``view``, ``science``, ``bench``, ``report``, ``grading`` or the CLI: no drawing, no files.
 """
-from . import frontend as _frontend
-
-_frontend.install()  # before the stages' modules decorate their functions (frontend.py)

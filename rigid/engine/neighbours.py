@@ -187,7 +187,15 @@ def no_pair_force(scratch: ti.template(), i):
 def _active_chunk(state: ti.template(), scratch: ti.template(), k):
     """Chunk k of the slots for list_active (as many chunks as the grid's scan has)."""
     n, chunks = state.particle_x.shape[0], scratch.grid_dims[2]
-    return (n * k) // chunks, (n * (k + 1)) // chunks
+    return chunk_start(n, chunks, k), chunk_start(n, chunks, k + 1)
+
+
+@ti.func
+def chunk_start(n, chunks, k):
+    """n k // chunks, the first of chunk k's slots, as k q + k r // chunks (n = q chunks + r): n k
+    itself overflows an i32 from 2^31 / chunks particles on (a million at 2,048 chunks)."""
+    q, r = n // chunks, n % chunks
+    return k * q + (k * r) // chunks
 
 
 @ti.func

@@ -46,9 +46,6 @@ def init_taichi():
                 random_seed=0, cpu_max_num_threads=1, advanced_optimization=False)
     headless.install(ti)
     fields.install(ti)  # one set of fields for every version of the file
-    from ...engine import frontend
-
-    frontend.install()  # each AST node's debug string formatted once (the file's versions share code)
 
 
 def perturbed_label(params: dict) -> str:
