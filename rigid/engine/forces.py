@@ -1,20 +1,20 @@
 """The external forces: the one place where a force that is not contact enters the substep.
 
-Two seams, both summed through the student's TODO 3 (F += f) and TODO 4 (τ += r × f), so that
-P and L change exactly by what the forces impart:
+``add_external`` adds them to a block's share of F and τ, after the block's particle loop
+(stages.py, material_stages.py), through the student's TODO 3 (F += f) and TODO 4 (τ += r × f),
+so that P and L change exactly by what they impart, in every scene and schedule:
 
-- ``particle_force``: a term on every particle, added where its gravity (TODO 2) and contacts are
-  (stages.py and material_stages.py call it in their particle loops). Today: linear drag.
+- ``particle_force``: a term on every particle, summed over the block's particles in a pass of
+  its own, only for a body that has it (the contact loop stays as lean as without). Today:
       drag      f = −c vᵢ          c: the body's ``drag`` (model.body_material[b][3]), N s/m
-- ``point_wrench``: forces at chosen points of a body, added to its F and τ once per force
-  evaluation, with its first block's sums (stages.py, material_stages.py), so that every body's
-  are computed from the same state, before any body is updated. Today:
+- ``point_wrench``: forces at chosen points of a body, added with its first block's sums, so
+  that every body's are computed from the same state, before any body is updated. Today:
       the grab  f = k (target − p) − c v_p at the held particle (grab.py: the window's mouse)
       springs   f = (k (|d| − l0) + c (v_b − v_a)·n) n between two bodies' points, or a body's
                 and a world point (rigid.bodies.springs; rows in ``world.springs``)
 
-A new force is one more term in one of these two functions (and its parameters in the model or
-the world's values); no schedule, stage or kernel changes.
+A new force is one more term in ``particle_force`` or ``point_wrench`` (and its parameters in
+the model or the world's values); no schedule, stage or kernel changes.
 """
 import taichi as ti
 
@@ -69,10 +69,18 @@ def any_point_forces(world: ti.template()):
 
 
 @ti.func
-def add_point_forces(u: ti.template(), model: ti.template(), state: ti.template(), world: ti.template(), b, k,
-                     F, tau):
-    """(F, τ) of block k of body b, with the body's forces at points added if k is its first block."""
+def add_external(u: ti.template(), model: ti.template(), state: ti.template(), world: ti.template(), b, k, F, tau):
+    """(F, τ) of block k of body b with the external forces added: its particles' (drag), and the
+    body's forces at points if k is its first block."""
     F_out, tau_out = F, tau
+    if model.body_material[b][DRAG] != 0.0:
+        x, R, v, omega = state.x[b], state.R[b], state.v[b], state.omega[b]
+        for i in range(model.block_start[k], model.block_start[k] + model.block_count[k]):
+            r0 = body_offset(model, i)
+            r = matvec(R, r0)
+            f = particle_force(model, b, v + omega.cross(r))
+            F_out += u.total_force_term(f)
+            tau_out += u.torque_term(x + r, x, R, r0, f)
     if model.body_blocks[b][0] == k and any_point_forces(world):
         F_points, tau_points = point_wrench(u, model, state, world, b)
         F_out += F_points

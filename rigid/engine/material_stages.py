@@ -149,15 +149,12 @@ def block_forces(u: ti.template(), model: ti.template(), state: ti.template(), w
         m_eff = model.body_mass[b] / ti.max(_body_count(model, state, scratch, b, 0), 1)
         mat = model.body_material[b]
         ct = sticking_damping(stiffness, m_eff, dt)
-        dragged = mat[forces.DRAG] != 0.0
         for i in range(start, end):
             r0 = ti.Vector([model.r0_x[i], model.r0_y[i], model.r0_z[i]])
             r = matvec(R, r0)
             p = x + r
             pv = v + omega.cross(r)
             f = u.gravity_force(m, g)
-            if dragged:
-                f += forces.particle_force(model, b, pv)
             for j in range(num_planes(world)):
                 slot = i * MAX_PLANES + j
                 if near & (1 << j):
@@ -182,7 +179,7 @@ def block_forces(u: ti.template(), model: ti.template(), state: ti.template(), w
                 pair_contacts += scratch.contacts[i]
             F += u.total_force_term(f)
             tau += u.torque_term(p, x, R, r0, f) + couple
-    F, tau = forces.add_point_forces(u, model, state, world, b, k, F, tau)
+    F, tau = forces.add_external(u, model, state, world, b, k, F, tau)
     scratch.block_wrench[k] = wrench(F, tau)
     base = state.particle_x.shape[0]
     scratch.contacts[base + 2 * k] = plane_contacts

@@ -6,10 +6,10 @@
                        from other bodies' particles (contact.py); 1-3a only when bodies
                        collide, in pair_stages.py
   3b. block_forces     per block: fᵢ = TODO 2 (m g) + the static planes in reach + the pair
-                       force + the external terms (forces.particle_force: drag), then the
-                       block's share of F = Σ TODO 3 (fᵢ) and τ = Σ TODO 4 (pᵢ, x, R, r0ᵢ, fᵢ)
-                       + the pairs' couples (+ the body's forces at points, forces.point_wrench:
-                       the grab, springs, with its first block)
+                       force, then the block's share of F = Σ TODO 3 (fᵢ) and
+                       τ = Σ TODO 4 (pᵢ, x, R, r0ᵢ, fᵢ) + the pairs' couples, + the external
+                       forces (forces.add_external: drag on its particles, and the body's
+                       forces at points, the grab and springs, with its first block)
   4. body_wrench       per body: F, τ = Σ of its blocks' shares, in block order;
                        then the scheme's update (schemes.py: TODO 5, 6, 7)
 Every stage is a ``ti.func`` whose arguments say what it reads and writes: ``u`` the TODO
@@ -128,14 +128,11 @@ def _block_loop(u: ti.template(), model: ti.template(), world: ti.template(), sc
     m, g = model.particle_mass[b], gravity(world)
     stiffness, kd, mu = contact_constants(world)
     radius = model.particle_radius[b]
-    dragged = model.body_material[b][forces.DRAG] != 0.0
     for i in range(start, end):
         r0 = ti.Vector([model.r0_x[i], model.r0_y[i], model.r0_z[i]])
         r = matvec(R, r0)
         p = x + r
         f = u.gravity_force(m, g)
-        if dragged:
-            f += forces.particle_force(model, b, v + omega.cross(r))
         if ti.static(count > 0):
             pv = v + omega.cross(r)
             fc, _e = plane_force(p, pv, radius, plane0, stiffness, kd, mu)
@@ -195,7 +192,7 @@ def _block_share(u: ti.template(), model: ti.template(), state: ti.template(), w
         F, tau = _block_loop(u, model, world, scratch, start, end, b, x, R, v, omega, plane0, plane1, plane2, pairs, NEAR_SLOTS)
     else:
         F, tau = _block_loop(u, model, world, scratch, start, end, b, x, R, v, omega, plane0, plane1, plane2, pairs, -1)
-    F, tau = forces.add_point_forces(u, model, state, world, b, k, F, tau)
+    F, tau = forces.add_external(u, model, state, world, b, k, F, tau)
     scratch.block_wrench[k] = wrench(F, tau)
 
 
