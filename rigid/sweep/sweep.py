@@ -1,0 +1,123 @@
+"""``rigid.sweep``: plan the runs, check everything, resume, run them, write what comes back.
+
+Everything a user can get wrong (the scene, a --vary, --seeds, --frames, --workers, --ray, the
+output folder) is checked before the first worker starts, each as one line (UserError). A run
+that fails is a row of index.csv whose status is the failure's line; the others go on.
+"""
+from __future__ import annotations
+
+import os
+import sys
+import time
+from pathlib import Path
+
+from ..config import SimConfig, load_scene
+from ..errors import UserError
+from .folder import SweepFolder
+from .vary import as_varies, plan_runs
+
+INDEX_EVERY = 1.0  # s: index.csv is rewritten at most this often while runs finish (and at the end)
+
+
+def default_workers() -> int:
+    """One worker per CPU this process may use."""
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
+
+
+def sweep(scene, vary=(), frames: int = None, out=None, seeds: int = 1, workers: int | None = None,
+          ray: str | None = None, record: bool = False, log=sys.stderr) -> list[dict]:
+    """Run ``scene`` (a scene TOML's path, or a SimConfig) once for every combination of the
+    ``vary`` values (``{"restitution": [0.2, 0.5], "dt": "1e-3:2e-3:3"}`` or
+    ``["restitution=0.2,0.5", ...]``) and each of ``seeds`` seeds, ``frames`` frames each, into
+    the folder ``out``: ``index.csv``, ``runs/<run>.npz`` (and ``.mp4`` with ``record``).
+    ``workers`` processes (default one per CPU), or a Ray cluster (``ray="local"`` or an
+    address). Runs finished in ``out`` before are kept. Returns index.csv's rows (dicts)."""
+    base, scene_text = _scene(scene)
+    if not isinstance(frames, int) or isinstance(frames, bool) or frames < 1:
+        raise UserError(f"--frames {frames}: give every run's frame count, a whole number from 1, e.g. --frames 60")
+    if out is None:
+        raise UserError("--out is missing: name the folder for index.csv and runs/, e.g. --out sweep1")
+    workers = default_workers() if workers is None else workers
+    if not isinstance(workers, int) or isinstance(workers, bool) or workers < 1:
+        raise UserError(f"--workers {workers}: use a whole number of processes, 1 or more")
+    varies = as_varies(vary)
+    runs = plan_runs(base, varies, seeds)
+    _check_runs(base, runs)
+    if ray:
+        from .cluster import require_ray
+
+        require_ray()
+    folder = SweepFolder(out, runs, [v.key for v in varies], scene_text, frames, record)
+    rows = folder.open()
+    kept = len(rows)
+    by_name = {r.name: r for r in runs}
+    todo = [r for r in runs if r.name not in rows]
+    quick = os.environ.get("RIGID_QUICK_COMPILE") == "1"  # rigid.runtime.QUICK_COMPILE_ENV, the same for every worker
+    tasks = [dict(name=r.name, config=r.config, frames=frames, record=record, quick_compile=quick) for r in todo]
+    used = min(workers, max(1, len(todo)))
+    where = f"Ray ({ray})" if ray else f"{used} worker process{'es' if used > 1 else ''}"
+    print(f"sweep: {_runs(len(runs))} of {frames} frames into {folder.out} ({kept} kept from before, "
+          f"{len(todo)} to run on {where})", file=log, flush=True)
+    began, last_index = time.perf_counter(), [0.0]
+
+    def on_result(task, outcome):
+        run = by_name[task["name"]]
+        status = outcome["status"]
+        if status == "ok":
+            folder.write_run(run.name, outcome["npz"], outcome["mp4"])
+        else:
+            shown = ", ".join([*(f"{k}={v}" for k, v in run.values.items()), f"seed={run.seed}"])
+            print(f"{run.name} ({shown}): {status}", file=log, flush=True)
+        rows[run.name] = folder.row(run, status, outcome["energy"], outcome["seconds"])
+        if time.perf_counter() - last_index[0] > INDEX_EVERY:
+            folder.write_index(rows)
+            last_index[0] = time.perf_counter()
+
+    try:
+        if tasks and ray:
+            from .cluster import run_ray
+
+            run_ray(tasks, ray, workers, on_result)
+        elif tasks:
+            from .pool import run_local
+
+            run_local(tasks, workers, on_result)
+    finally:
+        folder.write_index(rows)  # after Ctrl-C too: what finished is kept for the next start
+        folder.remove_partials()
+    failed = sum(1 for r in runs if rows.get(r.name, {}).get("status") != "ok")
+    print(f"sweep: {len(runs) - failed} of {_runs(len(runs))} ok in {time.perf_counter() - began:.1f} s"
+          + (f"; {failed} failed (their status is in {folder.out / 'index.csv'}): run the same command again "
+             f"to retry them" if failed else f"; wrote {folder.out / 'index.csv'}"), file=log, flush=True)
+    return [rows.get(r.name) or folder.row(r) for r in runs]
+
+
+def _runs(n: int) -> str:
+    return f"{n} run{'s' if n != 1 else ''}"
+
+
+def _scene(scene) -> tuple[SimConfig, str]:
+    """The base config and the text that identifies it (a resumed sweep must have the same)."""
+    if isinstance(scene, SimConfig):
+        return scene.validate(), repr(scene)
+    if scene is None:
+        raise UserError("a sweep needs a scene file, e.g. python -m rigid sweep assets/scenes/thrown_sphere.toml ...")
+    path = Path(scene)
+    config = SimConfig(**load_scene(path)).validate()  # one line for a missing or bad file
+    return config, path.read_text()
+
+
+def _check_runs(base: SimConfig, runs) -> None:
+    """What the command line checks before Taichi starts: float32 against each run's Δt, and the
+    scene's meshes and placement (the base scene's: a varied key's effect is each run's own)."""
+    from ..bodies.placement import check_inside_box, scene_bodies
+    from ..run.precision import float32_problem
+
+    for run in runs:
+        problem = float32_problem(run.config)
+        if problem:
+            shown = ", ".join(f"{k}={v}" for k, v in run.values.items())
+            raise UserError(f"--vary: the run with {shown}: {problem}" if shown else problem)
+    bodies = scene_bodies(base)
+    if base.walls:
+        check_inside_box(bodies, base.floor, base.wall, use_radius=True)

@@ -1,0 +1,177 @@
+"""``python -m rigid sweep``: each run equals the scene run alone, bit for bit; re-running resumes
+(after a worker killed mid-sweep, and past a half-written file); a bad --vary is one line before
+anything runs; Ray's local cluster writes the local pool's bytes (skipped without ray).
+
+The references are the same scenes run in this process through ``rigid.Simulator`` directly, with
+the values each row of index.csv names."""
+import csv
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from conftest import ROOT, killed_at_exit
+
+SCENE = ROOT / "assets" / "scenes" / "thrown_sphere.toml"
+FRAMES = 10
+VARY = ["--vary", "friction_stiffness=0.1,0.5", "--vary", "initial_velocity.x=2:4:2"]  # 4 runs
+ROW_KEYS = ("t", "x", "q", "v", "omega", "P", "L", "kinetic_energy", "potential_energy")
+
+
+def sweep_command(out, *extra, vary=VARY):
+    return [sys.executable, "-m", "rigid", "sweep", str(SCENE), *vary, "--frames", str(FRAMES), "--out", str(out),
+            "--workers", "2", *extra]
+
+
+def run_sweep(out, *extra, vary=VARY, timeout=300):
+    return subprocess.run(sweep_command(out, *extra, vary=vary), cwd=ROOT, capture_output=True, text=True,
+                          timeout=timeout)
+
+
+def index(out):
+    with open(Path(out) / "index.csv", newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def stamps(out):
+    """Every file under the sweep's folder with its modification time (hidden ones included)."""
+    return {str(p.relative_to(out)): p.stat().st_mtime_ns for p in Path(out).rglob("*") if p.is_file()}
+
+
+@pytest.fixture(scope="module")
+def swept(tmp_path_factory):
+    out = tmp_path_factory.mktemp("sweep") / "thrown"
+    proc = run_sweep(out)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    return out
+
+
+def test_each_run_of_a_sweep_equals_the_scene_run_alone(swept, units):
+    from rigid.config import SimConfig, load_scene
+    from rigid.engine.simulator import Simulator
+
+    rows = index(swept)
+    assert [r["run"] for r in rows] == ["run-0000", "run-0001", "run-0002", "run-0003"]
+    assert list(rows[0]) == ["run", "friction_stiffness", "initial_velocity.x", "seed", "status", "final_energy",
+                             "wall_seconds"]
+    assert {(float(r["friction_stiffness"]), float(r["initial_velocity.x"])) for r in rows} == \
+        {(0.1, 2.0), (0.1, 4.0), (0.5, 2.0), (0.5, 4.0)}  # the product
+    scene = SimConfig(**load_scene(SCENE)).validate()
+    assert scene.initial_velocity == (4.0, 2.0, 3.0) and scene.friction_stiffness == 0.1
+    for row in rows:
+        assert row["status"] == "ok" and row["seed"] == "0" and float(row["wall_seconds"]) > 0
+        config = scene.replace(friction_stiffness=float(row["friction_stiffness"]),
+                               initial_velocity=(float(row["initial_velocity.x"]), 2.0, 3.0)).validate()
+        alone = Simulator(config, units).advance(FRAMES)
+        got = np.load(swept / "runs" / f"{row['run']}.npz")
+        assert got["x"].shape == (FRAMES + 1, 3)  # the NPZ contract's one body
+        for key in ROW_KEYS:
+            want = np.asarray(alone[key])
+            want = want[:, 0] if want.ndim == 3 else want
+            assert np.array_equal(got[key], want.astype(got[key].dtype)), (row["run"], key)
+        energy = alone["kinetic_energy"][-1] + alone["potential_energy"][-1]
+        assert float(row["final_energy"]) == pytest.approx(float(energy), rel=1e-12)
+    assert not list(swept.rglob(".*")), "no hidden partial file is left"
+
+
+def test_running_the_finished_sweep_again_keeps_every_file(swept):
+    before, rows = stamps(swept), index(swept)
+    proc = run_sweep(swept)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    assert "4 kept from before, 0 to run" in proc.stderr
+    assert stamps(swept) == {**before, "index.csv": stamps(swept)["index.csv"]} and index(swept) == rows
+
+
+def test_a_folder_of_another_sweep_is_refused_in_one_line(swept):
+    before = stamps(swept)
+    proc = run_sweep(swept, vary=["--vary", "friction_stiffness=0.1,0.9"])
+    assert proc.returncode == 2
+    assert proc.stderr.count("\n") == 1 and "holds another sweep" in proc.stderr, proc.stderr
+    assert stamps(swept) == before
+
+
+@pytest.mark.parametrize("spec, words", [
+    ("restitutoin=0:1:3", "did you mean 'restitution'"),   # unknown key
+    ("restitution=0.8:0.2", "START:STOP:N"),               # bad range
+    ("restitution=0.2:x:3", "must be numbers"),
+    ("count=1:4:3", "whole numbers"),
+    ("restitution=0.5,1.5", "from 0 (no bounce) to 1"),    # a value the scene refuses
+    ("frames=10,20", "frames cannot vary"),                # keys that cannot vary
+    ("fp64=true,false", "fp64 cannot vary"),
+    ("gravity=0,-9.8", "gravity.x, gravity.y or gravity.z"),
+])
+def test_a_bad_vary_is_one_line_before_anything_runs(tmp_path, capsys, spec, words):
+    from rigid.sweep.command import main
+
+    out = tmp_path / "never"
+    code = main([str(SCENE), "--vary", spec, "--frames", "10", "--out", str(out)])
+    err = capsys.readouterr().err
+    assert code == 2 and err.startswith("error: --vary") and err.count("\n") == 1 and words in err, err
+    assert not out.exists()
+
+
+def test_a_bad_vary_from_the_command_line_exits_2_without_a_traceback(tmp_path):
+    proc = run_sweep(tmp_path / "never", vary=["--vary", "drag=-1,1"], timeout=60)
+    assert proc.returncode == 2 and proc.stderr.count("\n") == 1 and "drag = -1.0" in proc.stderr, proc.stderr
+    assert "Traceback" not in proc.stderr and not (tmp_path / "never").exists()
+
+
+def _workers_of(pid: int) -> list[int]:
+    """The pool's worker processes: children of ``pid`` started by multiprocessing's spawn."""
+    found = []
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            parent = int(stat.read_text().rsplit(")", 1)[1].split()[1])
+            cmdline = (stat.parent / "cmdline").read_bytes()
+        except (OSError, ValueError, IndexError):
+            continue
+        if parent == pid and b"spawn_main" in cmdline:
+            found.append(int(stat.parent.name))
+    return found
+
+
+@pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="finds the pool's workers through /proc")
+def test_a_killed_worker_fails_its_runs_and_the_same_command_resumes(tmp_path):
+    out = tmp_path / "sweep"
+    vary = ["--vary", "friction_stiffness=0.1,0.2,0.3"]
+    proc = subprocess.Popen(sweep_command(out, vary=vary), cwd=ROOT, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    with killed_at_exit(proc):
+        deadline = time.monotonic() + 60
+        while not (workers := _workers_of(proc.pid)) and time.monotonic() < deadline and proc.poll() is None:
+            time.sleep(0.02)
+        assert workers, "the sweep started no worker"
+        os.kill(workers[0], signal.SIGKILL)  # while it starts Taichi: before any run is done
+        _, err = proc.communicate(timeout=300)
+    assert proc.returncode == 1, err[-3000:]
+    rows = index(out)
+    died = {r["run"] for r in rows if "worker process died" in r["status"]}
+    ok = {r["run"] for r in rows if r["status"] == "ok"}
+    assert len(died) == 2 and len(ok) == 1 and died | ok == {"run-0000", "run-0001", "run-0002"}, rows
+    assert {p.stem for p in (out / "runs").glob("*.npz")} == ok and not list(out.rglob(".*"))
+    kept = {name: t for name, t in stamps(out).items() if name.startswith("runs/")}
+    (out / "runs" / ".run-0000.partial.npz").write_bytes(b"half a file, as a killed driver leaves")
+
+    again = run_sweep(out, vary=vary)
+    assert again.returncode == 0, again.stderr[-3000:]
+    assert "1 kept from before, 2 to run" in again.stderr
+    after = index(out)
+    assert all(r["status"] == "ok" for r in after)
+    assert [r for r in after if r["run"] in ok] == [r for r in rows if r["run"] in ok]  # its row as it was
+    assert {name: t for name, t in stamps(out).items() if name in kept} == kept  # its file untouched
+    assert sorted(p.name for p in (out / "runs").iterdir()) == ["run-0000.npz", "run-0001.npz", "run-0002.npz"]
+
+
+def test_ray_local_writes_the_local_pools_bytes(swept, tmp_path):
+    pytest.importorskip("ray", reason="the cluster extra is not installed: pip install -e '.[cluster]'")
+    out = tmp_path / "ray"
+    proc = run_sweep(out, "--ray", "local")
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    assert [r["status"] for r in index(out)] == ["ok"] * 4
+    for run in ("run-0000", "run-0001", "run-0002", "run-0003"):
+        assert (out / "runs" / f"{run}.npz").read_bytes() == (swept / "runs" / f"{run}.npz").read_bytes(), run
