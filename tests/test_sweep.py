@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from conftest import ROOT, killed_at_exit
+from conftest import ROOT, default_sigint, killed_at_exit, run_main
 
 SCENE = ROOT / "assets" / "scenes" / "thrown_sphere.toml"
 FRAMES = 10
@@ -77,6 +77,28 @@ def test_each_run_of_a_sweep_equals_the_scene_run_alone(swept, units):
         energy = alone["kinetic_energy"][-1] + alone["potential_energy"][-1]
         assert float(row["final_energy"]) == pytest.approx(float(energy), rel=1e-12)
     assert not list(swept.rglob(".*")), "no hidden partial file is left"
+
+
+def test_a_runs_npz_is_the_command_lines_export_byte_for_byte(swept, tmp_path, capsys, monkeypatch):
+    (row,) = [r for r in index(swept) if (r["friction_stiffness"], r["initial_velocity.x"]) == ("0.5", "2.0")]
+    alone = tmp_path / "alone.npz"
+    code, _, err = run_main(capsys, monkeypatch, "--scene", SCENE, "--headless", "--frames", FRAMES,
+                            "--friction-stiffness", 0.5, "--v0", 2, 2, 3, "--export", alone)
+    assert code == 0, err
+    assert alone.read_bytes() == (swept / "runs" / f"{row['run']}.npz").read_bytes()
+
+
+def test_the_runs_are_the_product_of_the_values_then_the_seeds():
+    from rigid.config import SimConfig, load_scene
+    from rigid.sweep.vary import as_varies, plan_runs
+
+    base = SimConfig(**load_scene(SCENE)).validate()
+    runs = plan_runs(base, as_varies({"friction_stiffness": "0.1:0.5:5", "integrator": ["euler", "rk4"]}), seeds=2)
+    assert [r.name for r in runs[:2]] == ["run-0000", "run-0001"] and len(runs) == 20
+    assert [r.values["friction_stiffness"] for r in runs[::4]] == [0.1, 0.2, 0.3, 0.4, 0.5]  # rounded, as written
+    assert [(r.values["integrator"], r.seed) for r in runs[:4]] == [("euler", 0), ("euler", 1), ("rk4", 0), ("rk4", 1)]
+    assert runs[7].config.friction_stiffness == 0.2 and runs[7].config.integrator == "rk4" and runs[7].config.seed == 1
+    assert runs[7].config.initial_velocity == base.initial_velocity  # the scene's other keys as they were
 
 
 def test_running_the_finished_sweep_again_keeps_every_file(swept):
@@ -165,6 +187,47 @@ def test_a_killed_worker_fails_its_runs_and_the_same_command_resumes(tmp_path):
     assert [r for r in after if r["run"] in ok] == [r for r in rows if r["run"] in ok]  # its row as it was
     assert {name: t for name, t in stamps(out).items() if name in kept} == kept  # its file untouched
     assert sorted(p.name for p in (out / "runs").iterdir()) == ["run-0000.npz", "run-0001.npz", "run-0002.npz"]
+
+
+def test_record_writes_each_runs_video_beside_its_npz(tmp_path):
+    import av
+
+    scene = tmp_path / "small.toml"  # the thrown sphere, drawn small (resolution cannot vary)
+    scene.write_text(SCENE.read_text().replace('"../sphere.obj"', repr(str(ROOT / "assets" / "sphere.obj")))
+                     + "resolution = [96, 64]\n")
+    out = tmp_path / "sweep"
+    proc = subprocess.run([sys.executable, "-m", "rigid", "sweep", str(scene), "--vary", "drag=0,0.5",
+                           "--frames", "5", "--out", str(out), "--workers", "1", "--record"],
+                          cwd=ROOT, capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    for run in ("run-0000", "run-0001"):
+        with av.open(str(out / "runs" / f"{run}.mp4")) as video:
+            stream = video.streams.video[0]
+            assert (stream.width, stream.height) == (96, 64)
+            assert sum(1 for _ in video.decode(stream)) == 6  # frame 0, then one per simulated frame
+        assert np.load(out / "runs" / f"{run}.npz")["x"].shape == (6, 3)
+
+
+def test_ctrl_c_keeps_the_finished_runs_and_leaves_only_complete_files(tmp_path):
+    """Ctrl-C in a terminal reaches the driver and its workers (one process group) mid-sweep."""
+    out = tmp_path / "sweep"
+    command = sweep_command(out, vary=["--vary", "friction_stiffness=0.1,0.2,0.3,0.4"])
+    command[command.index("--frames") + 1] = "3000"  # long enough to be interrupted mid-run
+    proc = subprocess.Popen(command, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            start_new_session=True, preexec_fn=default_sigint)
+    with killed_at_exit(proc):
+        deadline = time.monotonic() + 120
+        while not list((out / "runs").glob("run-*.npz")) and time.monotonic() < deadline and proc.poll() is None:
+            time.sleep(0.02)
+        os.killpg(proc.pid, signal.SIGINT)
+        _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130 and "interrupted" in err, err[-3000:]
+    rows = index(out)
+    ok = {r["run"] for r in rows if r["status"] == "ok"}
+    assert 1 <= len(ok) < 4, rows
+    assert {p.stem for p in (out / "runs").iterdir()} == ok and not list(out.rglob(".*"))
+    for run in ok:
+        assert np.load(out / "runs" / f"{run}.npz")["x"].shape == (3001, 3)  # whole trajectories
 
 
 def test_ray_local_writes_the_local_pools_bytes(swept, tmp_path):

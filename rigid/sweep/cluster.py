@@ -41,9 +41,10 @@ def run_ray(tasks: list[dict], address: str, workers: int, on_result) -> None:
             message = " ".join(str(err).split())[:300]
             raise UserError(f"--ray {address}: Ray could not start or connect ({message}); "
                             f"check the address (ray status), or use --ray local") from None
+    refs: dict = {}
     try:
         remote = ray.remote(num_cpus=1, max_retries=0)(run_task)
-        refs = {remote.remote(task): task for task in tasks}
+        refs.update({remote.remote(task): task for task in tasks})
         while refs:
             done, _ = ray.wait(list(refs), num_returns=1)
             for ref in done:
@@ -55,9 +56,12 @@ def run_ray(tasks: list[dict], address: str, workers: int, on_result) -> None:
                     outcome = dict(name=task["name"], status=f"Ray: {line}", energy=None, npz=None, mp4=None,
                                    seconds=None)
                 on_result(task, outcome)
-    except BaseException:
+    except BaseException:  # Ctrl-C: the tasks still queued or running are cancelled, their workers ended
         for ref in refs:
-            ray.cancel(ref, force=True)
+            try:
+                ray.cancel(ref, force=True)
+            except Exception:  # already finished, or the cluster is going away: nothing to cancel
+                pass
         raise
     finally:
         if started:
