@@ -90,7 +90,7 @@ def test_a_runs_npz_is_the_command_lines_export_byte_for_byte(swept, tmp_path, c
 
 def test_the_runs_are_the_product_of_the_values_then_the_seeds():
     from rigid.config import SimConfig, load_scene
-    from rigid.sweep.vary import as_varies, plan_runs
+    from rigid.sweeps.vary import as_varies, plan_runs
 
     base = SimConfig(**load_scene(SCENE)).validate()
     runs = plan_runs(base, as_varies({"friction_stiffness": "0.1:0.5:5", "integrator": ["euler", "rk4"]}), seeds=2)
@@ -107,6 +107,17 @@ def test_running_the_finished_sweep_again_keeps_every_file(swept):
     assert proc.returncode == 0, proc.stderr[-3000:]
     assert "4 kept from before, 0 to run" in proc.stderr
     assert stamps(swept) == {**before, "index.csv": stamps(swept)["index.csv"]} and index(swept) == rows
+
+
+def test_the_python_api_names_the_same_runs_and_returns_the_index(swept):
+    import rigid
+
+    before = stamps(swept)
+    rows = rigid.sweep(SCENE, {"friction_stiffness": [0.1, 0.5], "initial_velocity.x": "2:4:2"}, frames=FRAMES,
+                       out=swept, workers=2)
+    assert rows == index(swept) and [r["status"] for r in rows] == ["ok"] * 4  # all kept: nothing ran
+    assert {k: t for k, t in stamps(swept).items() if k.startswith("runs/")} == \
+        {k: t for k, t in before.items() if k.startswith("runs/")}
 
 
 def test_a_folder_of_another_sweep_is_refused_in_one_line(swept):
@@ -128,7 +139,7 @@ def test_a_folder_of_another_sweep_is_refused_in_one_line(swept):
     ("gravity=0,-9.8", "gravity.x, gravity.y or gravity.z"),
 ])
 def test_a_bad_vary_is_one_line_before_anything_runs(tmp_path, capsys, spec, words):
-    from rigid.sweep.command import main
+    from rigid.sweeps.command import main
 
     out = tmp_path / "never"
     code = main([str(SCENE), "--vary", spec, "--frames", "10", "--out", str(out)])

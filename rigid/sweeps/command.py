@@ -49,7 +49,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
-    from .sweep import sweep
+    from .driver import sweep
 
     try:
         rows = sweep(args.scene, args.vary, frames=args.frames, out=args.out, seeds=args.seeds,
