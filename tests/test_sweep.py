@@ -5,6 +5,7 @@ anything runs; Ray's local cluster writes the local pool's bytes (skipped withou
 The references are the same scenes run in this process through ``rigid.Simulator`` directly, with
 the values each row of index.csv names."""
 import csv
+import importlib.util
 import os
 import signal
 import subprocess
@@ -154,6 +155,18 @@ def test_a_bad_vary_from_the_command_line_exits_2_without_a_traceback(tmp_path):
     assert "Traceback" not in proc.stderr and not (tmp_path / "never").exists()
 
 
+def test_a_ray_address_where_nothing_answers_is_one_line_before_anything_runs(tmp_path, capsys):
+    from rigid.sweeps.command import main
+
+    out = tmp_path / "never"
+    code = main([str(SCENE), "--frames", "10", "--out", str(out), "--ray", "127.0.0.1:1"])  # a closed loopback port
+    err = capsys.readouterr().err
+    assert code == 2 and err.startswith("error: --ray") and err.count("\n") == 1, err
+    has_ray = importlib.util.find_spec("ray") is not None
+    assert ("nothing answers there" if has_ray else "needs Ray, which is not installed") in err, err
+    assert not out.exists()
+
+
 def _workers_of(pid: int) -> list[int]:
     """The pool's worker processes: children of ``pid`` started by multiprocessing's spawn."""
     found = []
@@ -222,8 +235,10 @@ def test_record_writes_each_runs_video_beside_its_npz(tmp_path):
 def test_ctrl_c_keeps_the_finished_runs_and_leaves_only_complete_files(tmp_path):
     """Ctrl-C in a terminal reaches the driver and its workers (one process group) mid-sweep."""
     out = tmp_path / "sweep"
-    command = sweep_command(out, vary=["--vary", "friction_stiffness=0.1,0.2,0.3,0.4"])
-    command[command.index("--frames") + 1] = "3000"  # long enough to be interrupted mid-run
+    # Volume particles (~0.7 s a run once a worker is warm; a lone vertex sphere takes ~50 ms): when
+    # the first run's file appears, the other worker is mid-run and one run waits.
+    command = sweep_command(out, vary=["--vary", "particles=volume", "--vary", "friction_stiffness=0.1,0.2,0.3,0.4"])
+    command[command.index("--frames") + 1] = "500"
     proc = subprocess.Popen(command, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             start_new_session=True, preexec_fn=default_sigint)
     with killed_at_exit(proc):
@@ -238,7 +253,7 @@ def test_ctrl_c_keeps_the_finished_runs_and_leaves_only_complete_files(tmp_path)
     assert 1 <= len(ok) < 4, rows
     assert {p.stem for p in (out / "runs").iterdir()} == ok and not list(out.rglob(".*"))
     for run in ok:
-        assert np.load(out / "runs" / f"{run}.npz")["x"].shape == (3001, 3)  # whole trajectories
+        assert np.load(out / "runs" / f"{run}.npz")["x"].shape == (501, 3)  # whole trajectories
 
 
 def test_ray_local_writes_the_local_pools_bytes(swept, tmp_path):

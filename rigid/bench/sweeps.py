@@ -57,7 +57,7 @@ def main(argv=None) -> int:
         results = dict(single=_timed(lambda i: single, args.repeats, env),
                        pool=_timed(lambda i: sweep("pool", i), args.repeats, env))
         per_run = [float(r["wall_seconds"]) for i in range(1, args.repeats + 1)
-                   for r in csv.DictReader(open(Path(tmp) / f"pool{i}" / "index.csv"))]
+                   for r in csv.DictReader((Path(tmp) / f"pool{i}" / "index.csv").read_text().splitlines())]
         if ray_ok:
             results["ray"] = _timed(lambda i: sweep("ray", i, "--ray", "local"), args.repeats, env)
     out = dict(scene=str(SCENE.relative_to(ROOT)), frames=args.frames, runs=args.runs, workers=args.workers,

@@ -6,6 +6,7 @@ that fails is a row of index.csv whose status is the failure's line; the others 
 """
 from __future__ import annotations
 
+import contextlib
 import os
 import sys
 import time
@@ -44,20 +45,37 @@ def sweep(scene, vary=(), frames: int = None, out=None, seeds: int = 1, workers:
     runs = plan_runs(base, varies, seeds)
     _check_runs(base, runs)
     if ray:
-        from .cluster import require_ray
+        from .cluster import check_ray
 
-        require_ray()
+        check_ray(ray)
     folder = SweepFolder(out, runs, [v.key for v in varies], scene_text, frames, record)
-    rows = folder.open()
-    kept = len(rows)
-    by_name = {r.name: r for r in runs}
+    rows = folder.check()  # nothing is written before here, nor before Ray has started or joined
     todo = [r for r in runs if r.name not in rows]
+    with _cluster(ray, workers, bool(todo)) as cluster:
+        folder.prepare()
+        _run(folder, runs, rows, todo, frames, record, workers, cluster, log)
+    return [rows.get(r.name) or folder.row(r) for r in runs]
+
+
+def _cluster(ray: str | None, workers: int, needed: bool):
+    """Ray's session where --ray is given and there is something to run."""
+    if not (ray and needed):
+        return contextlib.nullcontext()
+    from .cluster import ray_session
+
+    return ray_session(ray, workers)
+
+
+def _run(folder, runs, rows: dict, todo, frames: int, record: bool, workers: int, cluster, log) -> None:
+    """Run ``todo`` on the pool or on Ray (``cluster``: the ray module), writing each run's files and
+    its row of ``rows`` as it finishes, and index.csv at most every INDEX_EVERY s and at the end."""
+    by_name = {r.name: r for r in runs}
     quick = os.environ.get("RIGID_QUICK_COMPILE") == "1"  # rigid.runtime.QUICK_COMPILE_ENV, the same for every worker
     tasks = [dict(name=r.name, config=r.config, frames=frames, record=record, quick_compile=quick) for r in todo]
     used = min(workers, max(1, len(todo)))
-    where = f"Ray ({ray})" if ray else f"{used} worker process{'es' if used > 1 else ''}"
-    print(f"sweep: {_runs(len(runs))} of {frames} frames into {folder.out} ({kept} kept from before, "
-          f"{len(todo)} to run on {where})", file=log, flush=True)
+    where = "Ray" if cluster else f"{used} worker process{'es' if used > 1 else ''}"
+    print(f"sweep: {_runs(len(runs))} of {frames} frames into {folder.out} ({len(runs) - len(todo)} kept from "
+          f"before, {len(todo)} to run on {where})", file=log, flush=True)
     began, last_index = time.perf_counter(), [0.0]
 
     def on_result(task, outcome):
@@ -74,10 +92,10 @@ def sweep(scene, vary=(), frames: int = None, out=None, seeds: int = 1, workers:
             last_index[0] = time.perf_counter()
 
     try:
-        if tasks and ray:
+        if tasks and cluster:
             from .cluster import run_ray
 
-            run_ray(tasks, ray, workers, on_result)
+            run_ray(cluster, tasks, on_result)
         elif tasks:
             from .pool import run_local
 
@@ -89,7 +107,6 @@ def sweep(scene, vary=(), frames: int = None, out=None, seeds: int = 1, workers:
     print(f"sweep: {len(runs) - failed} of {_runs(len(runs))} ok in {time.perf_counter() - began:.1f} s"
           + (f"; {failed} failed (their status is in {folder.out / 'index.csv'}): run the same command again "
              f"to retry them" if failed else f"; wrote {folder.out / 'index.csv'}"), file=log, flush=True)
-    return [rows.get(r.name) or folder.row(r) for r in runs]
 
 
 def _runs(n: int) -> str:

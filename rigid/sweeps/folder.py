@@ -33,25 +33,31 @@ class SweepFolder:
         }
 
     # --- opening ---------------------------------------------------------------------------------
-    def open(self) -> dict:
-        """Check and prepare the folder; return the rows of runs finished before (name -> row)."""
-        out = self.out
+    def check(self) -> dict:
+        """Refuse a folder this sweep cannot use, writing nothing; return the rows of the runs
+        finished before (name -> row)."""
+        out, manifest = self.out, self.out / MANIFEST
         if out.exists() and not out.is_dir():
             raise UserError(f"--out {out} is a file; give a folder (new, or a sweep's to resume it)")
-        if not out.parent.is_dir():
-            raise UserError(f"--out {out}: folder {out.parent} does not exist; create it or pick another path")
-        manifest = out / MANIFEST
         if out.is_dir() and not manifest.is_file() and any(out.iterdir()):
             raise UserError(f"--out {out} holds other files and no {MANIFEST}: it is not a sweep's folder; "
                             f"pick a new or empty folder")
         if manifest.is_file():
             self._check_same_sweep(manifest)
-        (out / RUNS).mkdir(parents=True, exist_ok=True)
+        return self._finished_before()
+
+    def prepare(self) -> None:
+        """Make the folder ready to take files (after ``check``)."""
+        out, manifest = self.out, self.out / MANIFEST
+        try:
+            (out / RUNS).mkdir(parents=True, exist_ok=True)
+        except OSError as err:
+            raise UserError(f"--out {out}: cannot make the folder ({err.strerror or type(err).__name__}); "
+                            f"pick another path") from None
         check_output_path(out / INDEX)  # a folder that takes no files: one line now
         self.remove_partials()
         if not manifest.is_file():
             self._write_text(manifest, json.dumps(self.manifest, indent=1) + "\n")
-        return self._finished_before()
 
     def _check_same_sweep(self, path: Path) -> None:
         try:
