@@ -83,16 +83,18 @@ def show(sim: Simulator, frames: int = 300, resolution=(640, 360), camera=None, 
 
 
 def sweep(scene, vary=(), frames: int = None, out=None, seeds: int = 1, workers: int | None = None,
-          ray: str | None = None, record: bool = False) -> list[dict]:
+          ray: str | None = None, record: bool = False, units=None) -> list[dict]:
     """Many runs of ``scene`` (a scene TOML's path, or a SimConfig), as ``python -m rigid sweep``:
     one per combination of the ``vary`` values (``{"restitution": [0.2, 0.5], "dt": "1e-3:2e-3:3"}``
     or ``["restitution=0.2,0.5"]``) and seed, ``frames`` frames each, into the folder ``out``
     (``index.csv``, ``runs/<run>.npz``, ``.mp4`` with ``record``), on ``workers`` processes or a Ray
-    cluster (``ray="local"`` or an address). Resumes a sweep begun in ``out``. Returns index.csv's
-    rows. Call it from a script's ``if __name__ == "__main__":`` block (the workers are spawned)."""
+    cluster (``ray="local"`` or an address), with the TODO units of ``units`` (an assignment file's
+    path, or ``rigid.load_units(...)``'s module; default the repository's solution). Resumes a
+    sweep begun in ``out``. Returns index.csv's rows. Call it from a script's
+    ``if __name__ == "__main__":`` block (the workers are spawned)."""
     from .sweeps.driver import sweep as _sweep
 
-    return _sweep(scene, vary, frames, out, seeds, workers, ray, record)
+    return _sweep(scene, vary, frames, out, seeds, workers, ray, record, units)
 
 
 def frames(sim: Simulator, frames: int = 60, resolution=(640, 360), camera=None) -> np.ndarray:

@@ -128,7 +128,7 @@ def main(argv=None, units=None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
     if argv[:1] == ["sweep"]:  # python -m rigid sweep ...: many runs (rigid/sweeps/, docs/sweeps.md)
         from .sweeps.command import main as sweep_main
-        return sweep_main(argv[1:])
+        return sweep_main(argv[1:], units)
     parser = build_parser()
     args = parser.parse_args(argv)  # argparse itself exits 2 with one usage line on bad flags
     try:

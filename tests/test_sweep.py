@@ -213,6 +213,23 @@ def test_a_killed_worker_fails_its_runs_and_the_same_command_resumes(tmp_path):
     assert sorted(p.name for p in (out / "runs").iterdir()) == ["run-0000.npz", "run-0001.npz", "run-0002.npz"]
 
 
+def test_a_students_file_sweeps_with_its_own_units(tmp_path):
+    """``python rigid_body_dynamic.py sweep ...`` runs that file's TODOs, not the solution's: here a
+    TODO 2 with twice the gravity, checked against explicit Euler's free fall before any contact."""
+    student = tmp_path / "rigid_body_dynamic.py"
+    solved = (ROOT / "rigid_body_dynamic.py").read_text()
+    assert solved.count("force = particle_mass * gravity") == 1
+    student.write_text(solved.replace("force = particle_mass * gravity", "force = 2.0 * particle_mass * gravity"))
+    out = tmp_path / "sweep"
+    proc = subprocess.run([sys.executable, str(student), "sweep", str(SCENE), "--vary", "drag=0", "--frames", "5",
+                           "--out", str(out), "--workers", "1"], cwd=tmp_path, capture_output=True, text=True,
+                          timeout=300)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    d = np.load(out / "runs" / "run-0000.npz")
+    k, dt = 5 * int(d["substeps"]), float(d["dt"])  # x_k = x0 + v0 k dt + g dt² k(k-1)/2
+    assert d["x"][5, 1] == pytest.approx(0.2 + 2.0 * k * dt - 2 * 9.8 * dt * dt * k * (k - 1) / 2, abs=1e-4)
+
+
 def test_record_writes_each_runs_video_beside_its_npz(tmp_path):
     import av
 

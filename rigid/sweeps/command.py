@@ -47,13 +47,14 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
-def main(argv=None) -> int:
+def main(argv=None, units=None) -> int:
+    """``units``: the module whose TODO units the runs use (rigid_body_dynamic.py passes itself)."""
     args = build_parser().parse_args(argv)
     from .driver import sweep
 
     try:
         rows = sweep(args.scene, args.vary, frames=args.frames, out=args.out, seeds=args.seeds,
-                     workers=args.workers, ray=args.ray, record=args.record)
+                     workers=args.workers, ray=args.ray, record=args.record, units=units)
     except UserError as err:
         print(f"error: {err}", file=sys.stderr)
         return err.exit_code

@@ -26,13 +26,14 @@ def default_workers() -> int:
 
 
 def sweep(scene, vary=(), frames: int = None, out=None, seeds: int = 1, workers: int | None = None,
-          ray: str | None = None, record: bool = False, log=sys.stderr) -> list[dict]:
+          ray: str | None = None, record: bool = False, units=None, log=sys.stderr) -> list[dict]:
     """Run ``scene`` (a scene TOML's path, or a SimConfig) once for every combination of the
     ``vary`` values (``{"restitution": [0.2, 0.5], "dt": "1e-3:2e-3:3"}`` or
     ``["restitution=0.2,0.5", ...]``) and each of ``seeds`` seeds, ``frames`` frames each, into
     the folder ``out``: ``index.csv``, ``runs/<run>.npz`` (and ``.mp4`` with ``record``).
     ``workers`` processes (default one per CPU), or a Ray cluster (``ray="local"`` or an
-    address). Runs finished in ``out`` before are kept. Returns index.csv's rows (dicts)."""
+    address). ``units``: the assignment file (or its module) whose TODO units run; default the
+    repository's solution. Runs finished in ``out`` before are kept. Returns index.csv's rows."""
     base, scene_text = _scene(scene)
     if not isinstance(frames, int) or isinstance(frames, bool) or frames < 1:
         raise UserError(f"--frames {frames}: give every run's frame count, a whole number from 1, e.g. --frames 60")
@@ -41,6 +42,7 @@ def sweep(scene, vary=(), frames: int = None, out=None, seeds: int = 1, workers:
     workers = default_workers() if workers is None else workers
     if not isinstance(workers, int) or isinstance(workers, bool) or workers < 1:
         raise UserError(f"--workers {workers}: use a whole number of processes, 1 or more")
+    units_file = _units_file(units)
     varies = as_varies(vary)
     runs = plan_runs(base, varies, seeds)
     _check_runs(base, runs)
@@ -53,7 +55,10 @@ def sweep(scene, vary=(), frames: int = None, out=None, seeds: int = 1, workers:
     todo = [r for r in runs if r.name not in rows]
     with _cluster(ray, workers, bool(todo)) as cluster:
         folder.prepare()
-        _run(folder, runs, rows, todo, frames, record, workers, cluster, log)
+        tasks = [dict(name=r.name, config=r.config, frames=frames, record=record, units=units_file,
+                      quick_compile=os.environ.get("RIGID_QUICK_COMPILE") == "1")  # rigid.runtime's, for every worker
+                 for r in todo]
+        _run(folder, runs, rows, tasks, frames, workers, cluster, log)
     return [rows.get(r.name) or folder.row(r) for r in runs]
 
 
@@ -66,16 +71,14 @@ def _cluster(ray: str | None, workers: int, needed: bool):
     return ray_session(ray, workers)
 
 
-def _run(folder, runs, rows: dict, todo, frames: int, record: bool, workers: int, cluster, log) -> None:
-    """Run ``todo`` on the pool or on Ray (``cluster``: the ray module), writing each run's files and
+def _run(folder, runs, rows: dict, tasks: list[dict], frames: int, workers: int, cluster, log) -> None:
+    """Run ``tasks`` on the pool or on Ray (``cluster``: the ray module), writing each run's files and
     its row of ``rows`` as it finishes, and index.csv at most every INDEX_EVERY s and at the end."""
     by_name = {r.name: r for r in runs}
-    quick = os.environ.get("RIGID_QUICK_COMPILE") == "1"  # rigid.runtime.QUICK_COMPILE_ENV, the same for every worker
-    tasks = [dict(name=r.name, config=r.config, frames=frames, record=record, quick_compile=quick) for r in todo]
-    used = min(workers, max(1, len(todo)))
+    used = min(workers, max(1, len(tasks)))
     where = "Ray" if cluster else f"{used} worker process{'es' if used > 1 else ''}"
-    print(f"sweep: {_runs(len(runs))} of {frames} frames into {folder.out} ({len(runs) - len(todo)} kept from "
-          f"before, {len(todo)} to run on {where})", file=log, flush=True)
+    print(f"sweep: {_runs(len(runs))} of {frames} frames into {folder.out} ({len(runs) - len(tasks)} kept from "
+          f"before, {len(tasks)} to run on {where})", file=log, flush=True)
     began, last_index = time.perf_counter(), [0.0]
 
     def on_result(task, outcome):
@@ -107,6 +110,16 @@ def _run(folder, runs, rows: dict, todo, frames: int, record: bool, workers: int
     print(f"sweep: {len(runs) - failed} of {_runs(len(runs))} ok in {time.perf_counter() - began:.1f} s"
           + (f"; {failed} failed (their status is in {folder.out / 'index.csv'}): run the same command again "
              f"to retry them" if failed else f"; wrote {folder.out / 'index.csv'}"), file=log, flush=True)
+
+
+def _units_file(units) -> str | None:
+    """The assignment file of ``units`` (a path or a loaded module), checked now; None: the solution."""
+    if units is None:
+        return None
+    path = Path(getattr(units, "__file__", None) or units)
+    if not path.is_file():
+        raise UserError(f"assignment file {path} not found; give the path of a rigid_body_dynamic.py")
+    return str(path.resolve())
 
 
 def _runs(n: int) -> str:

@@ -8,7 +8,9 @@ which alone writes into the sweep's folder. So a run's NPZ is byte for byte the 
 ``--headless --export`` writes for the same scene, wherever the worker runs.
 
 A task is a plain dict (it crosses process and machine boundaries): ``name``, ``config``
-(a validated SimConfig), ``frames``, ``record``, ``quick_compile``.
+(a validated SimConfig), ``frames``, ``record``, ``quick_compile``, ``units`` (the assignment
+file whose TODO units run, or None for the repository's solution: a module cannot travel, its
+path can).
 """
 from __future__ import annotations
 
@@ -22,7 +24,7 @@ from pathlib import Path
 
 from ..errors import UserError
 
-_units = None  # this process's TODO units (the repository's solution), loaded with Taichi
+_units: dict = {}  # this process's TODO units by assignment file (None: the repository's solution)
 
 
 def ignore_ctrl_c() -> None:
@@ -31,17 +33,18 @@ def ignore_ctrl_c() -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
-def _start(config, quick_compile: bool):
-    """Taichi, once per process, on the scene's backend and precision; the units."""
-    global _units
+def _start(config, quick_compile: bool, units_file: str | None):
+    """Taichi, once per process, on the scene's backend and precision; the units, once per file
+    (their kernels compile once per units module)."""
+    from ..engine.units import default_units, load_units
     from ..runtime import init_taichi
 
     init_taichi(config.arch, config.fp64, quick_compile=quick_compile)
-    if _units is None:
-        from ..engine.units import default_units
-
-        _units = default_units()
-    return _units
+    if units_file is not None and Path(units_file).resolve() == Path(default_units().__file__).resolve():
+        units_file = None  # the repository's own file: the module every other caller shares
+    if units_file not in _units:
+        _units[units_file] = default_units() if units_file is None else load_units(units_file)
+    return _units[units_file]
 
 
 def run_task(task: dict) -> dict:
@@ -53,7 +56,7 @@ def run_task(task: dict) -> dict:
     try:
         with tempfile.TemporaryDirectory(prefix="rigid-sweep-") as folder, \
                 contextlib.redirect_stderr(io.StringIO()):  # Taichi's start and "wrote ..." lines: the driver reports
-            units = _start(task["config"], task["quick_compile"])
+            units = _start(task["config"], task["quick_compile"], task.get("units"))
             result = _simulate(task, units, Path(folder))
             if result.status == "done":
                 out["npz"] = (Path(folder) / "run.npz").read_bytes()
