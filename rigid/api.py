@@ -90,7 +90,7 @@ def sweep(scene, vary=(), frames: int = None, out=None, seeds: int = 1, workers:
     (``index.csv``, ``runs/<run>.npz``, ``.mp4`` with ``record``), on ``workers`` processes or a Ray
     cluster (``ray="local"`` or an address), with the TODO units of ``units`` (an assignment file's
     path, or ``rigid.load_units(...)``'s module; default the repository's solution). Resumes a
-    sweep begun in ``out``. Returns index.csv's rows. Call it from a script's
+    sweep begun in ``out``. Returns index.csv's rows (numbers as numbers). Call it from a script's
     ``if __name__ == "__main__":`` block (the workers are spawned)."""
     from .sweeps.driver import sweep as _sweep
 

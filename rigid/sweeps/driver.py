@@ -33,7 +33,8 @@ def sweep(scene, vary=(), frames: int = None, out=None, seeds: int = 1, workers:
     the folder ``out``: ``index.csv``, ``runs/<run>.npz`` (and ``.mp4`` with ``record``).
     ``workers`` processes (default one per CPU), or a Ray cluster (``ray="local"`` or an
     address). ``units``: the assignment file (or its module) whose TODO units run; default the
-    repository's solution. Runs finished in ``out`` before are kept. Returns index.csv's rows."""
+    repository's solution. Runs finished in ``out`` before are kept. Returns index.csv's rows as
+    dicts of numbers and words (None for an empty cell)."""
     base, scene_text = _scene(scene)
     if not isinstance(frames, int) or isinstance(frames, bool) or frames < 1:
         raise UserError(f"--frames {frames}: give every run's frame count, a whole number from 1, e.g. --frames 60")
@@ -59,7 +60,17 @@ def sweep(scene, vary=(), frames: int = None, out=None, seeds: int = 1, workers:
                       quick_compile=os.environ.get("RIGID_QUICK_COMPILE") == "1")  # rigid.runtime's, for every worker
                  for r in todo]
         _run(folder, runs, rows, tasks, frames, workers, cluster, log)
-    return [rows.get(r.name) or folder.row(r) for r in runs]
+    return [_typed(r, rows.get(r.name) or folder.row(r)) for r in runs]
+
+
+def _typed(run, row: dict) -> dict:
+    """A row of index.csv for Python: the varied values and the seed as the run used them, the
+    energy and the time as floats (None where empty), whether the row was written now or read back."""
+    def number(text):
+        return float(text) if text not in ("", None) else None
+
+    return {"run": run.name, **run.values, "seed": run.seed, "status": row["status"],
+            "final_energy": number(row["final_energy"]), "wall_seconds": number(row["wall_seconds"])}
 
 
 def _cluster(ray: str | None, workers: int, needed: bool):
