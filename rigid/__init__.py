@@ -2,7 +2,8 @@
 
 The engine never imports the assignment file: it receives the 7 TODO units as
 a parameter (see ``rigid.engine.units``). The Python API (rigid/api.py): ``rigid.init``,
-``rigid.scene``, ``rigid.load_scene``, ``rigid.Simulator``, ``rigid.export``, ``rigid.show``, ``rigid.sweep``.
+``rigid.scene``, ``rigid.load_scene``, ``rigid.Simulator``, ``rigid.export``, ``rigid.show``,
+``rigid.sweep``.
 
 Importing ``rigid`` first sets Taichi's environment, so import it before taichi.
 """

@@ -21,6 +21,8 @@ EPILOG = """examples:
   python rigid_body_dynamic.py --record out.mp4 --frames 600     video, no display needed
   python rigid_body_dynamic.py --mesh assets/t_handle.obj --scale 1 --no-walls --gravity 0 0 0 --w0 0.1 8 0.1
   python rigid_body_dynamic.py --check                            grade the file's 7 TODOs before you submit
+  python -m rigid sweep SCENE.toml --vary KEY=START:STOP:N --frames F --out DIR
+                                                                 many runs at once (python -m rigid sweep --help)
 """
 
 
