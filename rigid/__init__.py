@@ -2,7 +2,8 @@
 
 The engine never imports the assignment file: it receives the 7 TODO units as
 a parameter (see ``rigid.engine.units``). The Python API (rigid/api.py): ``rigid.init``,
-``rigid.scene``, ``rigid.load_scene``, ``rigid.Simulator``, ``rigid.export``, ``rigid.show``.
+``rigid.scene``, ``rigid.load_scene``, ``rigid.Simulator``, ``rigid.export``, ``rigid.show``,
+``rigid.sweep``.
 
 Importing ``rigid`` first sets Taichi's environment, so import it before taichi.
 """
@@ -17,8 +18,8 @@ os.environ.setdefault("ENABLE_TAICHI_HEADER_PRINT", "0")
 os.environ.setdefault("TI_OFFLINE_CACHE_FILE_PATH", str(Path.home() / ".cache" / "rigid-body-taichi"))
 
 # The Python API (rigid/api.py), loaded on first use so that ``import rigid`` stays light.
-_API = ("init", "scene", "load_scene", "Simulator", "export", "show", "frames", "load_units", "default_units",
-        "SimConfig", "ASSETS")
+_API = ("init", "scene", "load_scene", "Simulator", "export", "show", "frames", "sweep", "load_units",
+        "default_units", "SimConfig", "ASSETS")
 
 
 def __getattr__(name):

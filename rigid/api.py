@@ -7,6 +7,7 @@
     rows = sim.advance(120)                             # 121 rows: row 0 now, then a row per frame
     rigid.export(sim, rows, "drop.npz", "drop.glb")     # the NPZ, glTF and USD exporters
     rigid.show(sim, frames=300)                         # in Jupyter: the run as an inline video
+    rigid.sweep("thrown.toml", {"restitution": [0.2, 0.8]}, frames=60, out="sweep1")  # many runs
 
 Shapes are per body: ``rows["x"]`` (frames + 1, B, 3); the NPZ of a lone body keeps the
 contract's (F, 3). Kernels compile once per process: a second Simulator costs milliseconds.
@@ -81,6 +82,21 @@ def show(sim: Simulator, frames: int = 300, resolution=(640, 360), camera=None, 
     return _show(sim, frames, resolution, camera, format, keep_frames)
 
 
+def sweep(scene, vary=(), frames: int = None, out=None, seeds: int = 1, workers: int | None = None,
+          ray: str | None = None, record: bool = False, units=None) -> list[dict]:
+    """Many runs of ``scene`` (a scene TOML's path, or a SimConfig), as ``python -m rigid sweep``:
+    one per combination of the ``vary`` values (``{"restitution": [0.2, 0.5], "dt": "1e-3:2e-3:3"}``
+    or ``["restitution=0.2,0.5"]``) and seed, ``frames`` frames each, into the folder ``out``
+    (``index.csv``, ``runs/<run>.npz``, ``.mp4`` with ``record``), on ``workers`` processes or a Ray
+    cluster (``ray="local"`` or an address), with the TODO units of ``units`` (an assignment file's
+    path, or ``rigid.load_units(...)``'s module; default the repository's solution). Resumes a
+    sweep begun in ``out``. Returns index.csv's rows (numbers as numbers). Call it from a script's
+    ``if __name__ == "__main__":`` block (the workers are spawned)."""
+    from .sweeps.driver import sweep as _sweep
+
+    return _sweep(scene, vary, frames, out, seeds, workers, ray, record, units)
+
+
 def frames(sim: Simulator, frames: int = 60, resolution=(640, 360), camera=None) -> np.ndarray:
     """Run ``frames`` frames and return the drawn pictures, (frames + 1, H, W, 3) uint8 numpy."""
     from .view.notebook import frames as _frames
@@ -88,5 +104,5 @@ def frames(sim: Simulator, frames: int = 60, resolution=(640, 360), camera=None)
     return _frames(sim, frames, resolution, camera)
 
 
-__all__ = ["init", "scene", "load_scene", "Simulator", "export", "show", "frames", "load_units", "default_units",
-           "SimConfig", "ASSETS"]
+__all__ = ["init", "scene", "load_scene", "Simulator", "export", "show", "frames", "sweep", "load_units",
+           "default_units", "SimConfig", "ASSETS"]

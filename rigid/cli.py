@@ -21,6 +21,8 @@ EPILOG = """examples:
   python rigid_body_dynamic.py --record out.mp4 --frames 600     video, no display needed
   python rigid_body_dynamic.py --mesh assets/t_handle.obj --scale 1 --no-walls --gravity 0 0 0 --w0 0.1 8 0.1
   python rigid_body_dynamic.py --check                            grade the file's 7 TODOs before you submit
+  python -m rigid sweep SCENE.toml --vary KEY=START:STOP:N --frames F --out DIR
+                                                                 many runs at once (python -m rigid sweep --help)
 """
 
 
@@ -125,6 +127,10 @@ def config_from_args(args: argparse.Namespace) -> SimConfig:
 
 
 def main(argv=None, units=None) -> int:
+    argv = sys.argv[1:] if argv is None else list(argv)
+    if argv[:1] == ["sweep"]:  # python -m rigid sweep ...: many runs (rigid/sweeps/, docs/sweeps.md)
+        from .sweeps.command import main as sweep_main
+        return sweep_main(argv[1:], units)
     parser = build_parser()
     args = parser.parse_args(argv)  # argparse itself exits 2 with one usage line on bad flags
     try:

@@ -97,13 +97,17 @@ if [ -f "$stamp" ] && [ "$(cat "$stamp")" = "$want" ] && installed; then
   echo "setup: $VPY has this package installed already"
 else
   rm -f "$stamp"
-  # The usd extra (usd-core) lets the tests read USD exports back; where it has no wheel, go on without it.
-  # The docs extra (MkDocs) builds the documentation site; the suite builds it once (tests/test_docs.py).
+  # The usd extra (usd-core) lets the tests read USD exports back, the cluster extra (Ray: an 80 MB
+  # wheel, ~10 s to install) runs the sweep test on a local Ray cluster; where either has no wheel,
+  # go on without it. The docs extra (MkDocs) builds the documentation site (tests/test_docs.py).
   echo "setup: installing this package and its dependencies with pip (a minute or two on a new machine)"
-  if "$VPY" -m pip install -q -e '.[dev,docs,usd]'; then
+  if "$VPY" -m pip install -q -e '.[dev,docs,usd,cluster]'; then
     :
   elif "$VPY" -m pip install -q -e '.[dev,docs]'; then
-    echo "note: usd-core did not install (the package did); USD export and its tests are skipped" >&2
+    for extra in usd cluster; do
+      "$VPY" -m pip install -q -e ".[$extra]" ||
+        echo "note: the $extra extra did not install (the package did); its tests are skipped" >&2
+    done
   else
     echo "error: pip could not install this package into $ENV_DIR (see above)" >&2
     exit 1

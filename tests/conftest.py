@@ -55,7 +55,7 @@ GROUPS = {
 # short ones. The in-process "scenes" group runs beside the grading batch; the rest follow in
 # file order.
 ORDER = ("test_grading_batch", "scenes", "test_backends", "physics_fp64",
-         "test_view_memory", "test_export", "test_view_raster",
+         "test_view_memory", "test_export", "test_sweep", "test_view_raster",
          "test_render", "test_parallel_path", "test_window", "sphere", "test_grading_handout",
          "test_frame_chunks")
 

@@ -25,8 +25,9 @@ ALLOWED = {
     "grading": BASE | {"bodies", "engine", "run"},
     "bench": BASE | {"bodies", "engine", "run", "view", "science", "grading"},
     "report": BASE | {"bodies", "engine", "run", "view", "science", "bench"},
-    "cli": BASE | {"bodies", "engine", "run", "view"},
-    "api": BASE | {"bodies", "engine", "run", "view"},  # the Python API: build, step, read, export, show (view, lazily)
+    "sweeps": BASE | {"bodies", "engine", "run", "view"},  # many runs: workers simulate (and record)
+    "cli": BASE | {"bodies", "engine", "run", "view", "sweeps"},
+    "api": BASE | {"bodies", "engine", "run", "view", "sweeps"},  # the Python API: build, step, read, export, show (view, lazily)
     "__main__": {"cli"},
     "__init__": {"api"},  # loaded on first use of rigid.Simulator etc. (PEP 562)
 }
