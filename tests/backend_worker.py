@@ -14,7 +14,7 @@ from rigid.errors import UserError  # noqa: E402
 
 # Few frames, and scenes set up to touch early: Mesa's software Vulkan takes ~0.1 s a substep for
 # these small scenes (a launch's fixed cost), so each frame costs about a second of the suite.
-FRAMES = 5
+FRAMES = 3
 ASSETS = ROOT / "assets"
 
 
@@ -23,8 +23,8 @@ def scenes():
     walls; two bodies meeting in free space, symplectic; eight colliding, sleeping on, explicit Euler)."""
     from rigid.config import load_scene
 
-    head_on = load_scene(ASSETS / "scenes" / "head_on.toml")  # moved closer: they meet in frame 2
-    head_on["bodies"] = tuple(dict(b, position=(0.4 * b["position"][0], *b["position"][1:])) for b in head_on["bodies"])
+    head_on = load_scene(ASSETS / "scenes" / "head_on.toml")  # moved closer: they meet in the first frames
+    head_on["bodies"] = tuple(dict(b, position=(0.3 * b["position"][0], *b["position"][1:])) for b in head_on["bodies"])
     thrown = dict(load_scene(ASSETS / "scenes" / "thrown_sphere.toml"), position=(0.6, -0.6, 0.0))  # hits a wall
     return {"thrown_sphere": thrown, "head_on": head_on,
             "pile_of_8": dict(mesh=str(ASSETS / "sphere.obj"), scale=0.15, count=8, position=(0.0, -0.8, 0.0),
