@@ -172,6 +172,9 @@ def _run(args, units) -> int:
     follow_index(camera, SimpleNamespace(bodies=bodies))  # a follow of no such body: one line, now
     if config.walls:  # every particle's sphere inside (a lone body's radius is 0: its centres)
         check_inside_box(bodies, config.floor, config.wall, use_radius=True)
+    if config.springs:  # [[spring]] tables against the placed bodies
+        from .bodies.springs import resolve_springs
+        resolve_springs(config.springs, [b.position for b in bodies], [b.orientation for b in bodies])
     if units is None:
         from .engine.units import default_units
         units = default_units()
