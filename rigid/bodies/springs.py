@@ -98,9 +98,8 @@ def resolve_springs(tables, positions: np.ndarray, orientations: np.ndarray) -> 
             if not WORLD <= body < B:
                 raise UserError(f"{_where(i)}: body {body} does not exist: the scene has {B} bodies "
                                 f"(0 to {B - 1}; -1 is the world)")
-            p = np.asarray(_point(i, k, point))
-            world = p if body == WORLD else positions[body] + quaternion_to_matrix_np(orientations[body]) @ p
-            ends.append((body, tuple(p), world))
+            p = _point(i, k, point)
+            ends.append((body, p, _world_point(body, p, positions, orientations)))
         if ends[0][0] == ends[1][0]:
             raise UserError(f"{_where(i)}: both ends are on body {ends[0][0]}; a spring joins two bodies "
                             f"(or a body and the world, -1)")
@@ -111,29 +110,28 @@ def resolve_springs(tables, positions: np.ndarray, orientations: np.ndarray) -> 
     return springs
 
 
+def _world_point(body: int, point, x, q) -> np.ndarray:
+    """Where ``point`` (body ``body``'s frame about its centre of mass; a world point for WORLD) is
+    in the world, for bodies at ``x`` (..., B, 3) and ``q`` (..., B, 4): float64 (..., 3)."""
+    p, x, q = (np.asarray(a, np.float64) for a in (point, x, q))
+    if body == WORLD:
+        return np.broadcast_to(p, x.shape[:-2] + (3,))
+    R = np.array([quaternion_to_matrix_np(qq) for qq in q[..., body, :].reshape(-1, 4)])
+    return x[..., body, :] + (R @ p).reshape(x.shape[:-2] + (3,))
+
+
 def spring_ends(springs: list[Spring], x: np.ndarray, q: np.ndarray) -> np.ndarray:
     """(2 S, 3) world positions of each spring's two ends, for bodies at ``x`` (B, 3), ``q`` (B, 4)."""
-    ends = []
-    for s in springs:
-        for body, point in ((s.a, s.point_a), (s.b, s.point_b)):
-            p = np.asarray(point, np.float64)
-            ends.append(p if body == WORLD else np.asarray(x[body], np.float64) + quaternion_to_matrix_np(q[body]) @ p)
+    ends = [_world_point(body, point, x, q) for s in springs for body, point in ((s.a, s.point_a), (s.b, s.point_b))]
     return np.array(ends).reshape(-1, 3)
 
 
 def spring_energy(springs: list[Spring], x: np.ndarray, q: np.ndarray) -> np.ndarray:
     """½ k (|d| − l0)² summed over the springs, for each row of bodies' states ``x`` (F, B, 3),
     ``q`` (F, B, 4): float64 (F,)."""
-    x, q = np.asarray(x, np.float64), np.asarray(q, np.float64)
     energy = np.zeros(len(x))
     for s in springs:
-        ends = []
-        for body, point in ((s.a, s.point_a), (s.b, s.point_b)):
-            if body == WORLD:
-                ends.append(np.broadcast_to(np.asarray(point), (len(x), 3)))
-            else:
-                R = np.array([quaternion_to_matrix_np(qq) for qq in q[:, body]])
-                ends.append(x[:, body] + R @ np.asarray(point))
-        stretch = np.linalg.norm(ends[1] - ends[0], axis=1) - s.rest_length
+        stretch = np.linalg.norm(_world_point(s.b, s.point_b, x, q) - _world_point(s.a, s.point_a, x, q),
+                                 axis=1) - s.rest_length
         energy += 0.5 * s.stiffness * stretch * stretch
     return energy

@@ -33,8 +33,8 @@ def particle_force(model: ti.template(), b, pv):
 
 @ti.func
 def _end(state: ti.template(), body, point):
-    """A spring's end: (world position, world velocity, body-frame offset) of ``point`` on ``body``
-    (−1: the world, where ``point`` is already a world point, at rest)."""
+    """A spring's end: (world position, world velocity) of ``point`` on ``body`` (−1: the world,
+    where ``point`` is already a world point, at rest)."""
     p = point
     v = ti.Vector.zero(float, 3)
     if body >= 0:
@@ -46,7 +46,8 @@ def _end(state: ti.template(), body, point):
 
 @ti.func
 def _spring_force(world: ti.template(), state: ti.template(), s):
-    """Spring s: the force on its first end (the second gets its opposite), and the ends' offsets."""
+    """Spring s: its two bodies, the ends' body-frame offsets and world positions, and the force on
+    its first end (the second gets its opposite)."""
     row = world.springs[s]
     a, b = ti.cast(row[0], ti.i32), ti.cast(row[1], ti.i32)
     ra = ti.Vector([row[2], row[3], row[4]])
