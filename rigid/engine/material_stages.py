@@ -13,9 +13,11 @@ What differs from stages.py:
   the pair stage acts on the moving side only, with the static side's mass infinite.
 Every sum keeps the fixed orders of stages.py (slots, blocks), so runs stay bit-reproducible.
 """
+from collections import namedtuple
+
 import taichi as ti
 
-from . import forces, grid, neighbours
+from . import candidates, forces
 from .contact import pair_force_damped, plane_force_sticking
 from .materials import normal_damping, pair_mu, pair_restitution, plane_damping, sticking_damping
 from .matvec import matvec
@@ -85,10 +87,22 @@ def _material_pair(model: ti.template(), state: ti.template(), world: ti.templat
     return f, couple, touching
 
 
+MaterialSums = namedtuple("MaterialSums", "model state world scratch a p r_a x_a v_a w_a f couple touching")
+
+
+@ti.func
+def _add_material_pair(c: ti.template(), j):
+    """pair_stage's visitor: candidate j's force, couple and contact count added to the sums."""
+    fp, cp, hit = _material_pair(c.model, c.state, c.world, c.scratch, c.a, c.p, c.r_a, c.x_a, c.v_a, c.w_a, j)
+    c.f += fp
+    c.couple += cp
+    c.touching += hit
+
+
 @ti.func
 def pair_stage(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(), i):
-    """Stage 3a with materials: slot i's force and couple from its neighbours (the other bodies'
-    particles in its list, neighbours.py; the build's grid where the list overflowed), and how
+    """Stage 3a with materials: slot i's force and couple from its candidates (the other bodies'
+    particles near it, candidates.py), and how
     many of them touch it or will after this substep at their closing speed (the next force
     evaluation's count: a count of those touching only would be 0 on a contact's first substep
     and over-damp it, 19 % low at e = 0.1 for volume balls head-on; counting them anew before
@@ -100,26 +114,9 @@ def pair_stage(model: ti.template(), state: ti.template(), world: ti.template(),
     if not is_static(model, a):
         p, r_a = state.particle_x[i], model.particle_radius[a]
         x_a, v_a, w_a = state.x[a], state.v[a], state.omega[a]
-        stride = neighbours.list_stride(scratch, state)
-        n = scratch.nbr_count[i]
-        if n <= stride:
-            for t in range(n):
-                fp, cp, hit = _material_pair(model, state, world, scratch, a, p, r_a, x_a, v_a, w_a,
-                                             scratch.nbr_list[i * stride + t])
-                f += fp
-                couple += cp
-                touching += hit
-        else:  # the same candidates, in the same order, from the grid of the last build
-            g = grid.cell_coords(scratch, scratch.build_x[i])
-            for r in range(grid.ROWS_AROUND):
-                lo, hi = grid.around_range(scratch, g, r)
-                for slot in range(lo, hi):
-                    if scratch.sorted_body[slot] != a:
-                        fp, cp, hit = _material_pair(model, state, world, scratch, a, p, r_a, x_a, v_a,
-                                                     w_a, scratch.sorted_particle[slot])
-                        f += fp
-                        couple += cp
-                        touching += hit
+        candidates.each_candidate(state, scratch, i, a, _add_material_pair,
+                                  ti.static(MaterialSums(model, state, world, scratch, a, p, r_a, x_a, v_a,
+                                                         w_a, f, couple, touching)))
     scratch.particle_f[i] = f
     scratch.particle_couple[i] = couple
     scratch.contacts[i] = touching
