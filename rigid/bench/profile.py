@@ -35,7 +35,7 @@ def _kernels(units):
     def rebuild(model: M, state: S, scratch: C, reps: ti.i32):
         ti.loop_config(serialize=True)
         for _ in range(reps):
-            grid.clear_and_count(scratch, state, 1)
+            grid.clear_and_count(scratch, model, state, 1)
             grid.finish_serial(scratch, model, state, 1)
             scratch.nbr_flags[2] = 0
             for i in range(state.particle_x.shape[0]):
@@ -50,7 +50,7 @@ def _kernels(units):
     def grid_only(model: M, state: S, scratch: C, reps: ti.i32):
         ti.loop_config(serialize=True)
         for _ in range(reps):
-            grid.clear_and_count(scratch, state, 1)
+            grid.clear_and_count(scratch, model, state, 1)
             grid.finish_serial(scratch, model, state, 1)
 
     @ti.kernel

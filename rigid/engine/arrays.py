@@ -46,7 +46,7 @@ def _element(kind: str):
     f = float_dtype()
     return {"f": f, "i": ti.i32, "v3": ti.types.vector(3, f), "v4": ti.types.vector(4, f),
             "v13": ti.types.vector(13, f), "v16": ti.types.vector(16, f), "m3": ti.types.matrix(3, 3, f),
-            "v3i": ti.types.vector(3, ti.i32), "v2i": ti.types.vector(2, ti.i32), "v6": ti.types.vector(6, f)}[kind]
+            "v3i": ti.types.vector(3, ti.i32), "v4i": ti.types.vector(4, ti.i32), "v2i": ti.types.vector(2, ti.i32), "v6": ti.types.vector(6, f)}[kind]
 
 
 def _pack_type(members: dict):
@@ -67,7 +67,7 @@ ModelArgs = _pack_type(dict(
     inertia_body=("m3", 1), inertia_body_inv=("m3", 1),
     block_start=("i", 1), block_count=("i", 1), block_body=("i", 1),
     block_centre=("v3", 1), block_bounds=("v4", 1), body_blocks=("v2i", 1),
-    body_material=("v4", 1)))
+    body_material=("v4", 1), body_world=("v4i", 1)))
 
 
 StateArgs = _pack_type(dict(
@@ -84,7 +84,7 @@ ScratchArgs = _pack_type(dict(
     nbr_count=("i", 1), nbr_list=("i", 1), build_x=("v3", 1), nbr_flags=("i", 1), active=("i", 1), build_pose=("v16", 1),
     rk=("v13", 1), contacts=("i", 1)))
 
-RowArgs = _pack_type(dict(body=("f", 3), contact_energy=("f", 1)))
+RowArgs = _pack_type(dict(body=("f", 3), contact_energy=("f", 2)))
 
 SurfaceArgs = _pack_type(dict(surface_r0=("v3", 1), surface_body=("i", 1)))
 

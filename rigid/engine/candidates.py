@@ -6,7 +6,7 @@ than K candidates: it kept only its count), the same candidates come, in the sam
 the build's grid around i's build position (grid.py). Consumers never see which: they pass a
 visitor and a context,
 
-    each_candidate(state, scratch, i, a, visit, ctx)   calls   visit(ctx, j)   for each candidate j,
+    each_candidate(model, state, scratch, i, a, visit, ctx)   calls   visit(ctx, j)   for each candidate j,
 
 in ascending slot order (lists are sorted by slot; the grid's cells are sorted by slot too, so
 an overflowed particle's order is the grid's fixed cell order). ``visit`` is a ``ti.func`` and
@@ -21,19 +21,21 @@ import taichi as ti
 from . import grid, neighbours
 
 
-_Overflow = namedtuple("_Overflow", "scratch body visit ctx")
+_Overflow = namedtuple("_Overflow", "model scratch body visit ctx")
 
 
 @ti.func
 def _other_body(c: ti.template(), slot):
     """each_candidate's overflow walk: a slot of the sorted grid is a candidate unless it is of
-    the particle's own body."""
-    if c.scratch.sorted_body[slot] != c.body:
+    the particle's own body or of another world."""
+    b = c.scratch.sorted_body[slot]
+    if b != c.body and grid.same_world(c.model, b, c.body):
         ti.static(c.visit)(c.ctx, c.scratch.sorted_particle[slot])
 
 
 @ti.func
-def each_candidate(state: ti.template(), scratch: ti.template(), i, a, visit: ti.template(), ctx: ti.template()):
+def each_candidate(model: ti.template(), state: ti.template(), scratch: ti.template(), i, a, visit: ti.template(),
+                   ctx: ti.template()):
     """visit(ctx, j) for each candidate j of slot i (of body a): its neighbour list in order, or,
     where the list overflowed, the build's grid around i's build position."""
     stride = neighbours.list_stride(scratch, state)
@@ -42,5 +44,5 @@ def each_candidate(state: ti.template(), scratch: ti.template(), i, a, visit: ti
         for t in range(n):
             visit(ctx, scratch.nbr_list[i * stride + t])
     else:
-        grid.each_slot_around(scratch, grid.cell_coords(scratch, scratch.build_x[i]), _other_body,
-                         ti.static(_Overflow(scratch, a, visit, ctx)))
+        grid.each_slot_around(scratch, grid.particle_coords(scratch, model, i, scratch.build_x[i]), _other_body,
+                              ti.static(_Overflow(model, scratch, a, visit, ctx)))

@@ -21,7 +21,7 @@ import taichi as ti
 from .grab import GRAB_C, GRAB_K, GRAB_SLOT, GRAB_TX
 from .matvec import body_offset, matvec
 
-NUM_SPRINGS = 10  # the slot of WorldArgs.values holding how many rows of world.springs are in use
+NUM_SPRINGS = 10  # the slot of WorldArgs.values holding how many rows of world.springs each world uses
 DRAG = 3  # the component of model.body_material holding the body's drag coefficient
 
 
@@ -105,7 +105,9 @@ def point_wrench(u: ti.template(), model: ti.template(), state: ti.template(), w
             f = world.values[GRAB_K] * (target - (x + r)) - world.values[GRAB_C] * v_p
             F += u.total_force_term(f)
             tau += u.torque_term(x + r, x, R, r0, f)
-    for s in range(ti.cast(world.values[NUM_SPRINGS], ti.i32)):  # in index order: the sums' order is fixed
+    per_world = ti.cast(world.values[NUM_SPRINGS], ti.i32)  # world w's springs: rows w · S .. (w + 1) · S − 1
+    first = model.body_world[b][1] * per_world
+    for s in range(first, first + per_world):  # in index order: the sums' order is fixed
         row = world.springs[s]
         if ti.cast(row[0], ti.i32) == b or ti.cast(row[1], ti.i32) == b:
             a, _b, ra, rb, pa, pb, f = _spring_force(world, state, s)

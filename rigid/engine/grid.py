@@ -78,21 +78,35 @@ def cell_index(s: ti.template(), ix, iy, iz):
 
 
 @ti.func
-def particle_cell(s: ti.template(), state: ti.template(), i):
+def particle_coords(s: ti.template(), model: ti.template(), i, p):
+    """The cell coordinates of slot i at p: its world's cells are shifted (``model.body_world``,
+    worlds.py), so that many worlds' copies of one place fall in different cells (one world: 0)."""
+    packed = model.body_world[model.particle_body[i]][0]
+    return cell_coords(s, p) + ti.Vector([packed & 1023, (packed >> 10) & 1023, packed >> 20])
+
+
+@ti.func
+def same_world(model: ti.template(), a, b):
+    """Whether bodies a and b are in one world (no contact across worlds)."""
+    return model.body_world[a][1] == model.body_world[b][1]
+
+
+@ti.func
+def particle_cell(s: ti.template(), model: ti.template(), state: ti.template(), i):
     """The cell of slot i (recomputed where needed: the same operations on the same position)."""
-    g = cell_coords(s, state.particle_x[i])
+    g = particle_coords(s, model, i, state.particle_x[i])
     return cell_index(s, g[0], g[1], g[2])
 
 
 @ti.func
-def count_particle(s: ti.template(), state: ti.template(), i):
+def count_particle(s: ti.template(), model: ti.template(), state: ti.template(), i):
     """Count slot i in its cell (atomic: particles may run in parallel)."""
-    ti.atomic_add(s.cell_count[particle_cell(s, state, i)], 1)
+    ti.atomic_add(s.cell_count[particle_cell(s, model, state, i)], 1)
 
 
 @ti.func
-def scatter_particle(s: ti.template(), state: ti.template(), i):
-    slot = ti.atomic_add(s.cell_count[particle_cell(s, state, i)], 1)
+def scatter_particle(s: ti.template(), model: ti.template(), state: ti.template(), i):
+    slot = ti.atomic_add(s.cell_count[particle_cell(s, model, state, i)], 1)
     s.sorted_particle[slot] = i
 
 
@@ -138,11 +152,11 @@ def gather_sorted(s: ti.template(), model: ti.template(), state: ti.template(), 
 # parallel kernel it stays a top-level (parallel) loop and costs nothing when gate is 0.
 
 @ti.func
-def clear_and_count(s: ti.template(), state: ti.template(), gate):
+def clear_and_count(s: ti.template(), model: ti.template(), state: ti.template(), gate):
     for c in range(s.grid_dims[1] * gate):
         s.cell_count[c] = 0
     for i in range(state.particle_x.shape[0] * gate):
-        count_particle(s, state, i)
+        count_particle(s, model, state, i)
 
 
 @ti.func
@@ -154,7 +168,7 @@ def finish_serial(s: ti.template(), model: ti.template(), state: ti.template(), 
     for c in range(C):
         s.cell_count[c] = s.cell_start[c]  # the counts are summed: reuse them as cursors
     for i in range(N):
-        scatter_particle(s, state, i)
+        scatter_particle(s, model, state, i)
     for k in range(N):
         gather_sorted(s, model, state, k)
     for c in range(C):
@@ -169,7 +183,7 @@ def finish_parallel(s: ti.template(), model: ti.template(), state: ti.template()
     for c in range(s.grid_dims[1] * gate):
         s.cell_count[c] = s.cell_start[c]  # the counts are summed: reuse them as cursors
     for i in range(state.particle_x.shape[0] * gate):
-        scatter_particle(s, state, i)
+        scatter_particle(s, model, state, i)
     for c in range(s.grid_dims[1] * gate):
         sort_cell(s, c)
         lo, hi = s.cell_start[c], s.cell_start[c + 1]

@@ -106,10 +106,9 @@ class EngineKernels:
             ti.loop_config(serialize=True)
             for frame in range(frames):
                 serial_frame(model, state, world, scratch, substeps)
-                energy = 0.0
-                for k in range(model.block_start.shape[0]):
-                    energy += stages.block_contact_energy(model, state, world, scratch, k, pairs)
-                write_row(state, rows, frame, energy)
+                for w in range(rows.contact_energy.shape[1]):
+                    rows.contact_energy[frame, w] = stages.world_contact_energy(model, state, world, scratch, w, pairs)
+                write_row(state, rows, frame)
 
         @ti.kernel
         def one_substep(model: M, state: S, world: W, scratch: C):
@@ -121,9 +120,9 @@ class EngineKernels:
             for k in range(model.block_start.shape[0]):  # the blocks in parallel, summed in order below
                 scratch.block_energy[k] = stages.block_contact_energy(model, state, world, scratch, k, pairs)
             stages.sum_energy_chunks(model, scratch)  # (off a CPU)
-            ti.loop_config(serialize=True)
-            for _ in range(1):
-                write_row(state, rows, slot, stages.block_energy_total(model, scratch))
+            for w in range(rows.contact_energy.shape[1]):  # each world's on a thread of its own
+                rows.contact_energy[slot, w] = stages.world_energy_total(model, scratch, w)
+            write_row(state, rows, slot)
 
         @ti.kernel
         def init_bodies(model: M, state: S, x0: ti.types.ndarray(), q0: ti.types.ndarray(),

@@ -113,7 +113,7 @@ def pair_stage(model: ti.template(), state: ti.template(), world: ti.template(),
     if not is_static(model, a):
         p, r_a = state.particle_x[i], model.particle_radius[a]
         x_a, v_a, w_a = state.x[a], state.v[a], state.omega[a]
-        candidates.each_candidate(state, scratch, i, a, _add_material_pair,
+        candidates.each_candidate(model, state, scratch, i, a, _add_material_pair,
                                   ti.static(MaterialSums(model, state, world, scratch, a, p, r_a, x_a, v_a,
                                                          w_a, f, couple, touching)))
     scratch.particle_f[i] = f

@@ -24,6 +24,9 @@ is the run's precision, f32 or f64), all read-only during a run:
 - ``body_material``      [B] vec4   (Coulomb μ, restitution e, 1 if static else 0, drag c in N s/m):
                                     materials.py, −1 for an unset μ or e; a static mesh has infinite mass,
                                     is not integrated; the drag is forces.particle_force's
+- ``body_world``         [B] 4×i32  (the grid's cell shift of the body's world, 10 bits an axis; its
+                                    world w; the world's first body; bodies a world): no contact
+                                    across worlds (worlds.py); one world: (0, 0, 0, B)
 
 The drawn meshes (``surface``, for windows, videos and exports) are not read by a substep:
 ``surface_r0`` [V] vec3 (body frame about the centre of mass), ``surface_body`` [V] i32 and
@@ -45,6 +48,7 @@ import taichi as ti
 from .arrays import ModelArgs, SurfaceArgs, device_array, download, float_dtype, host_float, upload
 from .blocks import block_layout, block_size_for
 from .materials import friction_value
+from .worlds import world_table
 
 
 @dataclass
@@ -64,11 +68,15 @@ class BodyParts:
 
 
 class Model:
-    def __init__(self, bodies: list[BodyParts], kernels):
+    def __init__(self, bodies: list[BodyParts], kernels, worlds: int = 1):
         """``kernels``: the process's compiled kernels for the run's TODO units (kernels.py);
-        TODO 1 gives I0."""
+        TODO 1 gives I0. ``worlds``: the bodies are that many worlds' copies, world by world
+        (worlds.py), each the same number of bodies."""
         bodies = list(bodies)
         self.num_bodies = B = len(bodies)
+        self.num_worlds = W = int(worlds)
+        if W < 1 or B % W:
+            raise ValueError(f"{B} bodies are not {W} worlds of equal size")
         counts = np.array([len(b.particles) for b in bodies])
         self.num_particles = int(counts.sum())
         starts = np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(np.int64)
@@ -113,6 +121,9 @@ class Model:
         self.static_np = np.array([bool(b.static) for b in bodies])
         self.body_material = device_array(np.array([(friction_value(b.friction), friction_value(b.restitution),
                                                      float(b.static), float(b.drag)) for b in bodies]), 4)
+
+        self.body_world_np = world_table(W, B // W, np.zeros((B, 3), np.int64))
+        self.body_world = device_array(self.body_world_np, 4, dtype=ti.i32)
 
         self._surfaces(bodies, coms)
         self.args = ModelArgs()(**{name: getattr(self, name) for name in ModelArgs.NAMES})

@@ -180,7 +180,8 @@ def close_pairs_moved(model: ti.template(), state: ti.template(), scratch: ti.te
     e_a = pose_a[13]
     if e_a > 0.5 * allowed and scratch.nbr_flags[0] == MAYBE:  # (once raised, the others need not look)
         x_a, reach_a = state.x[a], pose_a[14] + model.particle_radius[a]
-        for b in range(state.x.shape[0]):
+        world = model.body_world[a]
+        for b in range(world[2], world[2] + world[3]):  # a's world's bodies
             pose_b = scratch.build_pose[b]
             e_b = pose_b[13]
             if b != a and e_a + e_b > allowed and (e_b < e_a or (e_b == e_a and b > a)):

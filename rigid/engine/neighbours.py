@@ -102,7 +102,7 @@ def _append_near(c: ti.template(), slot):
     """build_own_list's visitor: slot (of the sorted grid) appended to i's list if it is another
     body's particle within reach + skin; counted past the stride."""
     b = c.scratch.sorted_body[slot]
-    if b != c.body:
+    if b != c.body and grid.same_world(c.model, b, c.body):
         d = c.scratch.sorted_x[slot] - c.p
         reach = c.r_a + c.model.particle_radius[b] + c.skin
         if d.dot(d) < reach * reach:
@@ -121,7 +121,7 @@ def build_own_list(model: ti.template(), state: ti.template(), scratch: ti.templ
     p, r_a, skin = state.particle_x[i], model.particle_radius[a], scratch.grid_params[1]
     stride = list_stride(scratch, state)
     n = 0
-    grid.each_slot_around(scratch, grid.cell_coords(scratch, p), _append_near,
+    grid.each_slot_around(scratch, grid.particle_coords(scratch, model, i, p), _append_near,
                           ti.static(OwnList(model, scratch, i, a, p, r_a, skin, stride, n)))
     scratch.nbr_count[i] = n
     scratch.build_x[i] = p
@@ -136,7 +136,7 @@ def build_half_shell(model: ti.template(), state: ti.template(), scratch: ti.tem
     p, r_a = state.particle_x[i], model.particle_radius[a]
     skin = scratch.grid_params[1]
     stride = list_stride(scratch, state)
-    g = grid.cell_coords(scratch, p)
+    g = grid.particle_coords(scratch, model, i, p)
     for dz in range(0, 2):
         for dy in range(-1, 2):
             if dz == 1 or dy >= 0:
@@ -150,7 +150,7 @@ def build_half_shell(model: ti.template(), state: ti.template(), scratch: ti.tem
                             slot = scratch.sorted_run_end[slot]
                         else:
                             j = scratch.sorted_particle[slot]
-                            if j > i or not own_row:
+                            if (j > i or not own_row) and grid.same_world(model, a, b):
                                 d = scratch.sorted_x[slot] - p
                                 reach = r_a + model.particle_radius[b] + skin
                                 if d.dot(d) < reach * reach:

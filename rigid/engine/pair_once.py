@@ -75,7 +75,7 @@ def _note_sleepers(model: ti.template(), state: ti.template(), scratch: ti.templ
     """Particle i of body a, which does not rest: every sleeping body among its candidates is seen
     (the sweep visits it), and a ``waker`` (a moving body) marks those it overlaps as woken."""
     p, r_a = state.particle_x[i], model.particle_radius[a]
-    candidates.each_candidate(state, scratch, i, a, _note_sleeper,
+    candidates.each_candidate(model, state, scratch, i, a, _note_sleeper,
                               ti.static(SleeperNote(model, state, scratch, p, r_a, waker)))
 
 
@@ -213,7 +213,7 @@ def sweep_particle(model: ti.template(), state: ti.template(), scratch: ti.templ
         f = scratch.particle_f[i]  # the pairs with lower slots, given in their turns
         couple = scratch.particle_couple[i]
     reach_max = r_a + scratch.grid_params[3]
-    candidates.each_candidate(state, scratch, i, a, _sweep_pair,
+    candidates.each_candidate(model, state, scratch, i, a, _sweep_pair,
                               ti.static(SweepTurn(model, state, scratch, i, p, r_a, x_a, v_a, w_a, a_rests, k, kd, mu,
                                                   reach_max, stride, sleeping, part, listed, f, couple)))
     scratch.particle_f[i] = f

@@ -104,7 +104,7 @@ def wake_if_touched(model: ti.template(), state: ti.template(), world: ti.templa
         r_b = model.particle_radius[b]
         for s in range(model.body_start[b], model.body_start[b] + model.body_count[b]):
             p = state.particle_x[s]
-            candidates.each_candidate(state, scratch, s, b, _wake_if,
+            candidates.each_candidate(model, state, scratch, s, b, _wake_if,
                                       ti.static(WakeCheck(model, state, world, scratch, b, p, r_b)))
 
 
@@ -132,7 +132,7 @@ def collect_from_other_parts(model: ti.template(), state: ti.template(), scratch
     """Listed particle i of ``part``, at its turn: the terms of its touching partners below it in
     other parts, ascending, each as that partner's sweep turn computes and gives it (an
     overflowed particle sums every pair itself at its turn)."""
-    candidates.each_candidate(state, scratch, i, model.particle_body[i], _collect,
+    candidates.each_candidate(model, state, scratch, i, model.particle_body[i], _collect,
                               ti.static(Collect(model, state, scratch, i, part, i_rests, k, kd, mu, r_max, sleeping)))
 
 

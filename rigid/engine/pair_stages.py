@@ -155,7 +155,7 @@ def pair_forces(model: ti.template(), state: ti.template(), world: ti.template()
     waker = 0
     if ti.static(wake):
         waker = sleep.moving(state, world, scratch, a) * waking
-    candidates.each_candidate(state, scratch, i, a, _add_pair,
+    candidates.each_candidate(model, state, scratch, i, a, _add_pair,
                               ti.static(PairSums(model, state, i, p, r_a, x_a, v_a, w_a, k, kd, mu, reach_max,
                                                  waker, wake, f, couple, energy)))
     return f, couple, energy

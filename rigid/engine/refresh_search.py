@@ -52,15 +52,15 @@ def empty_hash(scratch: ti.template(), H):
 
 
 @ti.func
-def _reference_bucket(scratch: ti.template(), j, H):
-    return _bucket(grid.cell_coords(scratch, scratch.build_x[j]), H)
+def _reference_bucket(model: ti.template(), scratch: ti.template(), j, H):
+    return _bucket(grid.particle_coords(scratch, model, j, scratch.build_x[j]), H)
 
 
 @ti.func
 def hash_body(model: ti.template(), scratch: ti.template(), b, H):
     """Body b's particles into the buckets of their references (build_x)."""
     for j in range(model.body_start[b], model.body_start[b] + model.body_count[b]):
-        h = _reference_bucket(scratch, j, H)
+        h = _reference_bucket(model, scratch, j, H)
         scratch.cell_count[H + j] = scratch.cell_count[h]
         scratch.cell_count[h] = j
 
@@ -69,7 +69,7 @@ def hash_body(model: ti.template(), scratch: ti.template(), b, H):
 def unhash_body(model: ti.template(), scratch: ti.template(), b, H):
     """Body b's particles out of their buckets (before their references change)."""
     for j in range(model.body_start[b], model.body_start[b] + model.body_count[b]):
-        h = _reference_bucket(scratch, j, H)
+        h = _reference_bucket(model, scratch, j, H)
         if scratch.cell_count[h] == j:
             scratch.cell_count[h] = scratch.cell_count[H + j]
         else:
@@ -109,7 +109,7 @@ def find_partners(model: ti.template(), state: ti.template(), scratch: ti.templa
     a = model.particle_body[i]
     r_a = model.particle_radius[a]
     p = scratch.build_x[i]
-    g = grid.cell_coords(scratch, p)
+    g = grid.particle_coords(scratch, model, i, p)
     ok = 1
     for r in range(grid.ROWS_AROUND):
         lo, hi = grid.around_range(scratch, g, r)
@@ -119,7 +119,7 @@ def find_partners(model: ti.template(), state: ti.template(), scratch: ti.templa
             if b == a:  # its own run in this cell, passed over at once
                 slot = scratch.sorted_run_end[slot]
             else:
-                if body_state(state, scratch, b) == 0:  # not refreshed since the full build
+                if body_state(state, scratch, b) == 0 and grid.same_world(model, a, b):  # not refreshed since the build
                     d = scratch.sorted_x[slot] - p
                     reach = r_a + model.particle_radius[b] + skin
                     if d.dot(d) < reach * reach:
@@ -129,7 +129,7 @@ def find_partners(model: ti.template(), state: ti.template(), scratch: ti.templa
         j = scratch.cell_count[_bucket(g + ti.Vector([c % 3 - 1, (c // 3) % 3 - 1, c // 9 - 1]), H)]
         while j >= 0:
             b = model.particle_body[j]
-            if b != a:
+            if b != a and grid.same_world(model, a, b):
                 d = scratch.build_x[j] - p
                 reach = r_a + model.particle_radius[b] + skin
                 if d.dot(d) < reach * reach:

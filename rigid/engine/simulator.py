@@ -32,16 +32,20 @@ from .rows import FrameRows, split_rows, with_energies
 from .schedule import check_schedule, choose_schedule
 from .state import Params, State
 from .units import check_units
+from .worlds import all_worlds, by_world, cell_shifts, check_worlds, span_in_cells, world_table
 
 
 class Simulator(Pushes):
     def __init__(self, config, units=None, geometry: BodyGeometry | None = None,
-                 bodies: list[BodySpec] | None = None, schedule: str | None = None):
+                 bodies: list[BodySpec] | None = None, schedule: str | None = None, worlds: int = 1,
+                 vary: dict | None = None):
         """Build from ``config`` (meshes, scales, particles; rigid.config.SimConfig), or from a
         ready ``geometry`` (one body at the config's pose) or list of ``bodies``
         (rigid.bodies.placement.BodySpec). ``units``: the 7 TODO ``ti.func``s (default: the
         repository's solved rigid_body_dynamic.py). ``schedule``: "serial" or "parallel"
-        (default: schedule.py chooses)."""
+        (default: schedule.py chooses). ``worlds``: that many copies of the scene, stepped
+        together, none touching another, each with its values of ``vary`` (worlds.py); rows
+        then gain a world axis before the body axis, and energies are per world."""
         if units is None:
             from .units import default_units
 
@@ -59,19 +63,26 @@ class Simulator(Pushes):
         check_start(config, self.bodies)  # no body behind a [[plane]] or inside another
         self.springs = resolve_springs(config.springs, np.array([b.position for b in self.bodies]),
                                        np.array([b.orientation for b in self.bodies]))
+        pairs = len(self.bodies) > 1  # bodies that may touch: within a world
+        varied = check_worlds(worlds, vary, len(self.bodies))
+        self.num_worlds = worlds = int(worlds)
+        if worlds > 1 or varied:
+            self.bodies, self.springs = all_worlds(config, self.bodies, self.springs, worlds, varied)
         self.materials = materials = uses_materials(config)
-        self.kernels = engine_kernels(units, config.integrator, pairs=len(self.bodies) > 1, materials=materials)
+        self.kernels = engine_kernels(units, config.integrator, pairs=pairs, materials=materials)
         parts = [BodyParts(b.geometry.particles, b.geometry.vertices, b.geometry.faces, b.particle_mass,
                            b.radius, b.name, b.restitution, b.friction, b.static, b.drag) for b in self.bodies]
-        self.model = Model(parts, self.kernels)
+        self.model = Model(parts, self.kernels, worlds)
         B, N = self.model.num_bodies, self.model.num_particles
-        pairs = B > 1
         self.state = State(B, N, materials)
         self.params = Params(config)
-        self.params.set_springs([s.row() for s in self.springs])
+        self.params.set_springs([s.row() for s in self.springs], worlds)
         self.params.sleep = self.params.sleep and not self.springs  # a spring's far end moves a sleeper
-        self.rows = FrameRows(B)
+        self.rows = FrameRows(B, worlds)
         self.scratch, self._scratch_arrays, self.grid_shape = make_scratch(self.model, config, pairs, self.materials)
+        if worlds > 1 and pairs:  # each world in cells of its own
+            shifts = cell_shifts(worlds, B // worlds, span_in_cells(self.bodies, config, 1.0 / self.scratch_cell()))
+            upload(self.model.body_world, world_table(worlds, B // worlds, shifts))
         self._launches = None
         self._lists = ListGrowth(N, pairs)
         self._skin = AdaptiveSkin(particle_diameter(self.model), pairs, self._scratch_arrays)
@@ -100,6 +111,10 @@ class Simulator(Pushes):
     def many(self) -> bool:
         """Whether bodies collide with one another (B > 1)."""
         return self.model.num_bodies > 1
+
+    def scratch_cell(self) -> float:
+        """The grid's cell size, m (scratch.py)."""
+        return 1.0 / float(download(self._scratch_arrays["grid_params"])[0])
 
     @property
     def substeps(self) -> int:
@@ -150,6 +165,8 @@ class Simulator(Pushes):
 
     def _place_again(self):
         """Place the bodies again from the changed config (the same meshes, so the model stays)."""
+        if self.num_worlds > 1:
+            raise ValueError("a Simulator of many worlds keeps its bodies' starts: build a new one to move them")
         if not self._bodies_from_config:
             if len(self.bodies) == 1:  # one body from a geometry: move it
                 c, body = self.config, self.bodies[0]
@@ -262,7 +279,12 @@ class Simulator(Pushes):
         """The rows of the last launch, with the energies (rows.with_energies)."""
         body, contact = self.rows.read(len(times))
         rows = split_rows(body)
-        if self.springs:  # their energy ½ k (|d| − l0)², beside the contacts'
-            contact = contact + spring_energy(self.springs, rows["x"], rows["q"])
-        return with_energies(rows, contact, times, self.params.gravity,
-                             np.where(self.model.static_np, 0.0, self.model.body_mass_np))
+        W = self.num_worlds
+        if self.springs:  # their energy ½ k (|d| − l0)², beside the contacts', world by world
+            per = len(self.springs) // W
+            contact = contact + np.column_stack([spring_energy(self.springs[w * per:(w + 1) * per], rows["x"], rows["q"])
+                                                 for w in range(W)])
+        moving_mass = np.where(self.model.static_np, 0.0, self.model.body_mass_np)
+        if W == 1:
+            return with_energies(rows, contact[:, 0], times, self.params.gravity, moving_mass)
+        return with_energies(by_world(rows, W), contact, times, self.params.gravity, moving_mass)

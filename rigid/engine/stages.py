@@ -160,13 +160,14 @@ def _chunks(K):
 
 @ti.func
 def sum_energy_chunks(model: ti.template(), scratch: ti.template()):
-    """Off a CPU, at a kernel's top level: each chunk of ENERGY_CHUNK blocks' energies summed in
-    order by a thread of its own, into the chunk's first slot (a GPU's one thread summing 20,000
-    blocks would wait on every load: by estimate, unmeasured); on a CPU nothing
-    (block_energy_total sums every block)."""
+    """Off a CPU, at a kernel's top level, one world: each chunk of ENERGY_CHUNK blocks' energies
+    summed in order by a thread of its own, into the chunk's first slot (a GPU's one thread
+    summing 20,000 blocks would wait on every load: by estimate, unmeasured); on a CPU, or with
+    many worlds (each world's thread sums its own blocks), nothing (world_energy_total)."""
     if ti.static(not schedule.on_cpu()):
         K = model.block_start.shape[0]
-        for c in range(_chunks(K)):
+        one_world = ti.cast(model.body_world[0][3] == model.body_start.shape[0], ti.i32)
+        for c in range(_chunks(K) * one_world):
             total = 0.0
             for k in range(c * ENERGY_CHUNK, ti.min(K, (c + 1) * ENERGY_CHUNK)):
                 total += scratch.block_energy[k]
@@ -174,15 +175,40 @@ def sum_energy_chunks(model: ti.template(), scratch: ti.template()):
 
 
 @ti.func
-def block_energy_total(model: ti.template(), scratch: ti.template()):
-    """A frame's contact energy on one thread, in a fixed order: every block's on a CPU, else the
-    chunks' sums (sum_energy_chunks)."""
-    K = model.block_start.shape[0]
+def world_blocks(model: ti.template(), w):
+    """World w's blocks, first .. end − 1 (its bodies' blocks are consecutive, in body order)."""
+    per_world = model.body_world[0][3]
+    first_body, last_body = w * per_world, w * per_world + per_world - 1
+    first = model.body_blocks[first_body][0]
+    return first, model.body_blocks[last_body][0] + model.body_blocks[last_body][1]
+
+
+@ti.func
+def world_contact_energy(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(),
+                         w, pairs: ti.template()):
+    """World w's contact energy, its blocks' in block order (one thread)."""
+    first, end = world_blocks(model, w)
+    energy = 0.0
+    for k in range(first, end):
+        energy += block_contact_energy(model, state, world, scratch, k, pairs)
+    return energy
+
+
+@ti.func
+def world_energy_total(model: ti.template(), scratch: ti.template(), w):
+    """World w's contact energy from the blocks' (scratch.block_energy), in a fixed order: its
+    blocks' on a CPU or with many worlds, else (one world off a CPU) the chunks' sums
+    (sum_energy_chunks)."""
     total = 0.0
     if ti.static(schedule.on_cpu()):
-        for k in range(K):
+        first, end = world_blocks(model, w)
+        for k in range(first, end):
+            total += scratch.block_energy[k]
+    elif model.body_world[0][3] < model.body_start.shape[0]:  # many worlds
+        first, end = world_blocks(model, w)
+        for k in range(first, end):
             total += scratch.block_energy[k]
     else:
-        for c in range(_chunks(K)):
+        for c in range(_chunks(model.block_start.shape[0])):
             total += scratch.block_energy[c * ENERGY_CHUNK]
     return total

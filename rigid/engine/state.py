@@ -70,6 +70,7 @@ class Params:
         self.planes = zeros(MAX_PLANES, "v4")
         # [[spring]] rows (rigid.bodies.springs.Spring.row), set by the Simulator once the bodies are placed.
         self.spring_rows = np.zeros((0, 16))
+        self.springs_per_world = 0
         self.springs = zeros(max(len(getattr(config, "springs", ())), 1), "v16")
         self.args = WorldArgs()(values=self.values, planes=self.planes, springs=self.springs)
         self._loading = True
@@ -104,9 +105,14 @@ class Params:
             if not getattr(self, "_loading", True):
                 self.upload()
 
-    def set_springs(self, rows) -> None:
-        """The scene's springs (rigid.bodies.springs.Spring.row each), for the kernels."""
+    def set_springs(self, rows, worlds: int = 1) -> None:
+        """The scene's springs (rigid.bodies.springs.Spring.row each), for the kernels; with many
+        worlds, each world's in turn (rigid.engine.worlds)."""
         self.spring_rows = np.asarray(rows, np.float64).reshape(-1, 16)
+        self.springs_per_world = len(self.spring_rows) // worlds
+        if len(self.spring_rows) > self.springs.shape[0]:  # more than the scene's (many worlds' copies)
+            self.springs = zeros(len(self.spring_rows), "v16")
+            self.args = WorldArgs()(values=self.values, planes=self.planes, springs=self.springs)
         if len(self.spring_rows):
             upload(self.springs, self.spring_rows)
         self.upload()
@@ -129,7 +135,7 @@ class Params:
                                                       self.velocity_damping_stiffness, self.friction_stiffness)
         values[GX:GZ + 1] = self.gravity
         values[NUM_PLANES] = len(planes)
-        values[NUM_SPRINGS] = len(self.spring_rows)
+        values[NUM_SPRINGS] = self.springs_per_world
         values[GRAB_FIRST:GRAB_FIRST + GRAB_VALUES] = self.grab_values
         values[SLEEP_SPEED] = self.sleep_speed if self.sleep else 0.0
         values[SLEEP_STEPS] = max(1, round(self.sleep_time / self.dt))

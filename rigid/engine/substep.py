@@ -53,7 +53,7 @@ def place_and_build(plan: ti.template(), model: ti.template(), state: ti.templat
     """place after the motion test, bodies in contact (every loop gated by the rebuild flag)."""
     by_body = ti.static(plan.sleeping and not parallel)  # the one-thread stages walk bodies (pair_once.py)
     pair_stages.place_for_pairs(model, state, scratch, by_body, everything)
-    grid.clear_and_count(scratch, state, neighbours.rebuild_gate(scratch))
+    grid.clear_and_count(scratch, model, state, neighbours.rebuild_gate(scratch))
     if ti.static(parallel):
         grid.finish_parallel(scratch, model, state, neighbours.rebuild_gate(scratch))
     else:
