@@ -139,14 +139,14 @@ def test_copies_that_would_stack_kilometres_high_are_refused():
     from rigid.config import SimConfig
     from rigid.errors import UserError
 
-    with pytest.raises(UserError, match=r"^count = 100000: 100,000 copies 0.779 m apart make 25,000 layers "
-                                        r"of 2 x 2, 19,480 m high.*\(at most 20 m: 104 copies of this size\)"):
+    with pytest.raises(UserError, match=r"^count = 100000: 100,000 copies 0.612 m apart make 11,112 layers "
+                                        r"of 3 x 3, 6,800 m high.*\(at most 20 m: 297 copies of this size\)"):
         scene_bodies(SimConfig(count=100000).validate())
-    bodies = scene_bodies(SimConfig(count=104).validate())
+    bodies = scene_bodies(SimConfig(count=297).validate())
     top = max(b.position[1] for b in bodies) - min(b.position[1] for b in bodies)
-    assert MAX_STACK_HEIGHT - 0.779 < top <= MAX_STACK_HEIGHT
-    with pytest.raises(UserError, match=r"^count = 105: "):
-        scene_bodies(SimConfig(count=105).validate())
+    assert MAX_STACK_HEIGHT - 0.612 < top <= MAX_STACK_HEIGHT
+    with pytest.raises(UserError, match=r"^count = 298: "):
+        scene_bodies(SimConfig(count=298).validate())
     assert len(scene_bodies(SimConfig(count=200, walls=False).validate())) == 200  # no box: a cube of copies
 
 

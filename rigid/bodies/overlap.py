@@ -6,7 +6,10 @@ same point stay fused for good). So a scene whose bodies start overlapping is re
 one line naming the two bodies (or the body and the plane) and the depth, and the fix.
 
 Overlap of two bodies: the deepest overlap of two of their particles' spheres,
-r_a + r_b − |p_i − p_j| (one body's particles have radius 0 unless set: their centres).
+r_a + r_b − |p_i − p_j| (one body's particles have radius 0 unless set: their centres). The
+spheres lie inside the meshes, tangent to their faces (rigid.bodies.inset), so this is how deep
+the meshes' surfaces cut into each other where the contact will push, and what it would store:
+meshes that do not touch never overlap (the copies of ``count``, placed by the same spheres).
 Up to ``TOLERANCE`` of the pair's reach r_a + r_b is let pass: touching at the start is not
 overlapping (a lattice of copies, a stack with its gaps, the meshes of one file side by side).
 The meshes of one file (a GLB's nodes) are where the file puts them and are not checked against
@@ -46,10 +49,12 @@ def check_start(config, bodies) -> None:
 
 
 def _spheres(a, b, name_a: str, name_b: str) -> str:
-    """What overlaps: both bodies' particle spheres, or one's particle centres in the other's
-    spheres (a lone body's particles have no radius: "radius 0" read as a mistake)."""
+    """What overlaps: both bodies' surfaces (their spheres inside the meshes), or one's particle
+    centres in the other's spheres (a lone body's particles have no radius: "radius 0" read as a
+    mistake)."""
     if a.radius > 0 and b.radius > 0:
-        return f"their particles' spheres, radius {a.radius:.3g} and {b.radius:.3g} m"
+        return (f"their surfaces, by the collision spheres inside their meshes, radius {a.radius:.3g} "
+                f"and {b.radius:.3g} m")
     point, sized = (name_a, b) if a.radius == 0 else (name_b, a)
     return f"{point.split(' (')[0]}'s particles inside the other's particle spheres of radius {sized.radius:.3g} m"
 

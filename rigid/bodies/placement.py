@@ -12,12 +12,13 @@ its centre of mass at ``position``, turned by ``orientation`` about it, moving a
 body with the entry's velocity and angular velocity; ``count`` copies the group.
 
 Collision radius between bodies (``particle_radius``, or from the spacing; one body has none):
-half the largest nearest-neighbour distance among the body's particles. Every
-particle then touches its nearest neighbour, so the spheres leave no channel a
-particle of the same size could pass through. Volume particles (one per grid
-cell) get half the cell size: the spheres touch face to face and the surface
-they make lies within half a cell of the mesh's. Vertex particles of a coarse
-mesh get larger spheres (half its longest nearest-vertex gap).
+half the largest nearest-neighbour distance among the body's particles, so that every sphere
+touches its nearest neighbour and they leave no channel a particle of the same size could pass
+through (volume particles: half a cell). The spheres lie inside the mesh, tangent to its faces
+(rigid.bodies.inset), so the radius never inflates a body; it is at most a quarter of the mesh's
+thinnest extent (``radius_cap``): a box's 8 vertex spheres then touch one another, a thin domino's
+spheres meet in its middle. A ``particle_radius`` above that is refused. Copies are spaced, and
+the start is checked, by those spheres: the mesh's geometry.
 """
 from __future__ import annotations
 
@@ -28,6 +29,7 @@ import numpy as np
 from ..errors import UserError
 from .budget import check_fits, simulation_bytes
 from .group import entry_geometries, group_centre
+from .inset import collision_centres, radius_cap
 from .mesh import BodyGeometry
 from .quaternion import quaternion_to_matrix_np
 
@@ -59,14 +61,30 @@ class BodySpec:
                    drag=config.drag)
 
     @property
+    def centres(self) -> np.ndarray:
+        """Its particles' collision-sphere centres (N, 3), mesh frame: inside the mesh by the radius
+        (rigid.bodies.inset; a static's and a radius-0 body's are its particles). Kept on the
+        geometry, which copies share; rigid.engine.model makes the same."""
+        if self.static or self.radius <= 0:
+            return self.geometry.particles
+        cache = self.geometry.__dict__.setdefault("_centres", {})
+        if self.radius not in cache:
+            g = self.geometry
+            cache[self.radius] = collision_centres(g.particles, g.vertices, g.faces, self.radius)
+        return cache[self.radius]
+
+    @property
     def centre_of_mass(self) -> np.ndarray:
-        return self.geometry.particles.mean(axis=0)
+        """The mean of the collision spheres' centres: where the engine puts the body (its x)."""
+        return self.centres.mean(axis=0)
 
     @property
     def reach(self) -> float:
-        """Radius of a sphere about the centre of mass that holds every particle's sphere."""
-        offsets = self.geometry.particles - self.centre_of_mass
-        return float(np.sqrt((offsets ** 2).sum(axis=1).max())) + self.radius
+        """Radius of a sphere about the centre of mass that holds the mesh and every particle's sphere."""
+        c = self.centre_of_mass
+        spheres = float(np.sqrt(((self.centres - c) ** 2).sum(axis=1).max())) + self.radius
+        mesh = float(np.sqrt(((self.geometry.vertices - c) ** 2).sum(axis=1).max())) if len(self.geometry.vertices) else 0.0
+        return max(spheres, mesh)
 
 
 def scene_bodies(config) -> list[BodySpec]:
@@ -124,8 +142,18 @@ def scene_bodies(config) -> list[BodySpec]:
 
 
 def _radius(body, geometry: BodyGeometry, many: bool) -> float:
-    """Collision radius of the body's particles: particle_radius, or from the spacing (many bodies)."""
-    return body.particle_radius or (spacing_radius(geometry.particles) if many else 0.0)
+    """Collision radius of the body's particles: particle_radius, or from the spacing (many bodies),
+    at most ``radius_cap`` of the mesh (one line for a particle_radius above it)."""
+    if not (body.particle_radius or many):
+        return 0.0
+    cap = radius_cap(geometry.vertices) if len(geometry.faces) else np.inf
+    if body.particle_radius:
+        if body.particle_radius > cap * (1 + 1e-9):
+            raise UserError(f"particle_radius = {body.particle_radius:g} is more than a quarter of "
+                            f"{_stem(body.mesh)}'s thinnest extent ({4 * cap:.4g} m at scale {body.scale:g}): "
+                            f"its spheres cannot lie inside the mesh; use at most {cap:.4g}, or leave it unset")
+        return float(body.particle_radius)
+    return min(spacing_radius(geometry.particles), cap)
 
 
 def spacing_radius(particles: np.ndarray) -> float:
@@ -204,9 +232,9 @@ def _stem(mesh: str) -> str:
 
 
 def world_particles(body: BodySpec) -> np.ndarray:
-    """The body's particles (N, 3) at its initial pose: x + R (p - centre of mass)."""
+    """The centres of the body's collision spheres (N, 3) at its initial pose: x + R (c - centre of mass)."""
     R = quaternion_to_matrix_np(body.orientation)
-    return body.position + (body.geometry.particles - body.centre_of_mass) @ R.T
+    return body.position + (body.centres - body.centre_of_mass) @ R.T
 
 
 def check_inside_box(bodies: list[BodySpec], floor: float, wall: float, use_radius: bool) -> None:

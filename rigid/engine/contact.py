@@ -18,9 +18,11 @@ Why this law:
   coefficient that grows with the load (μ f_n / v_slip, this engine's old wall law) passes
   that limit under a stack (the lower bodies carry many times their weight) and tips it over.
 - Spheres, not centres: two bodies' particles must touch before their centres meet, and a
-  wall the same way, so the gap a body rests at is one rule for walls and pairs. A lone body
-  has radius 0 unless ``particle_radius`` is set: its particles are the mesh's vertices, as
-  on the slides, and the drawn mesh touches the floor.
+  wall the same way, so the gap a body rests at is one rule for walls and pairs. The spheres
+  sit inside the mesh, tangent to its faces (rigid.bodies.inset), so a body touches at its
+  mesh's surface, alone or in company. A lone body has radius 0 unless ``particle_radius`` is
+  set: its particles are the mesh's vertices, as on the slides, and the drawn mesh touches the
+  floor.
 
 A pair's force acts at the contact point c, in the middle of the overlap; the engine applies
 it at the particle centre through TODO 3 and 4 and adds the couple (c − pᵢ) × fᵢ that moves it

@@ -7,13 +7,17 @@ most 64 particles, sorted along a Z-order curve). Device arrays (Taichi ndarrays
 is the run's precision, f32 or f64), all read-only during a run:
 
 - ``r0_x``, ``r0_y``, ``r0_z``  [N] float  particle offset from its body's centre of mass, body frame,
-                                    one array per axis (vectorised loops; matvec.body_offset)
+                                    one array per axis (vectorised loops; matvec.body_offset): the
+                                    centre of its collision sphere, moved inside the mesh by the
+                                    body's radius (rigid.bodies.inset; unmoved at radius 0)
 - ``particle_body``      [N] i32    body of each particle
 - ``body_start``, ``body_count``  [B] i32   body b's particles are slots start .. start + count − 1
 - ``particle_mass``      [B] float  mass of each of the body's particles (all equal), kg
 - ``particle_radius``    [B] float  collision radius of the body's particles, m (0: the particle centre)
 - ``body_mass``          [B] float  M = Σ m, kg
-- ``inertia_body``       [B] mat3   I0 about the centre of mass, body frame (from TODO 1), kg m²
+- ``inertia_body``       [B] mat3   I0 about the centre of mass, body frame (from TODO 1 over the
+                                    particles as the mesh places them, before the inset: a body turns
+                                    alike alone and in company), kg m²
 - ``inertia_body_inv``   [B] mat3   I0⁻¹ (zero where TODO 1 gave a singular I0)
 - ``block_start``, ``block_count``, ``block_body``  [K] i32   block k: its particle slots and body
 - ``block_centre``       [K] vec3   centre of the block's particles' bounding box, body frame
@@ -55,7 +59,7 @@ from .worlds import world_table
 class BodyParts:
     """One body's input to the Model: particles and drawn mesh in the mesh frame (not centred)."""
 
-    particles: np.ndarray  # (N, 3)
+    particles: np.ndarray  # (N, 3): where the mesh puts the mass (vertices or cell centres)
     surface: np.ndarray  # (V, 3)
     faces: np.ndarray  # (F, 3) into surface
     particle_mass: float
@@ -65,6 +69,26 @@ class BodyParts:
     friction: float | None = None  # Coulomb μ, None: unset (friction_stiffness)
     static: bool = False  # a [[static]] mesh: never moves (rigid.engine.material_stages)
     drag: float = 0.0  # linear drag c, N s/m per particle: f = −c vᵢ (rigid.engine.forces)
+
+
+def _collision_centres(bodies) -> list:
+    """Per body, its particles' collision-sphere centres (N, 3) float64 (rigid.bodies.inset); a
+    static mesh's and a radius-0 body's are its particles. Copies sharing one particle array are
+    computed once."""
+    from ..bodies.inset import collision_centres
+
+    done: dict = {}
+    out = []
+    for b in bodies:
+        particles = np.asarray(b.particles, np.float64)
+        if b.static or b.radius <= 0:
+            out.append(particles)
+            continue
+        key = (id(b.particles), id(b.surface), float(b.radius))
+        if key not in done:
+            done[key] = (b.particles, collision_centres(particles, b.surface, b.faces, b.radius))
+        out.append(done[key][1])
+    return out
 
 
 class Model:
@@ -80,9 +104,13 @@ class Model:
         counts = np.array([len(b.particles) for b in bodies])
         self.num_particles = int(counts.sum())
         starts = np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(np.int64)
-        # The centre of mass in float64 on the host: x = Σ m r / M (equal masses).
-        coms = np.array([np.asarray(b.particles, np.float64).mean(axis=0) for b in bodies])
-        r0_file = np.concatenate([np.asarray(b.particles, np.float64) - c for b, c in zip(bodies, coms)])
+        # Each particle's collision sphere sits inside the mesh (rigid.bodies.inset): its centre is
+        # where gravity and contacts act, so the centre of mass is theirs, x = Σ m r / M (equal
+        # masses, float64 on the host), and Σ r0 = 0 keeps gravity torque-free.
+        centres = _collision_centres(bodies)
+        coms = np.array([c.mean(axis=0) for c in centres])
+        r0_file = np.concatenate([c - com for c, com in zip(centres, coms)])
+        r0_mass = np.concatenate([np.asarray(b.particles, np.float64) - com for b, com in zip(bodies, coms)])
         self.center_of_mass_np = coms  # (B, 3): each body's centre of mass in its mesh frame
         self.body_names = [b.name for b in bodies]
         self.body_mass_np = np.array([b.particle_mass * c for b, c in zip(bodies, counts)], np.float64)
@@ -127,8 +155,20 @@ class Model:
 
         self._surfaces(bodies, coms)
         self.args = ModelArgs()(**{name: getattr(self, name) for name in ModelArgs.NAMES})
-        kernels.sum_inertia(self.args)
+        self._sum_inertia(kernels, r0_mass[self.order])
         self._invert_inertia()
+
+    def _sum_inertia(self, kernels, r0_mass: np.ndarray):
+        """I0 by TODO 1 over the particles where the mesh puts them (about the centre of mass): the
+        r0 arrays hold those offsets while it sums, then the collision spheres' again."""
+        moved = not np.array_equal(r0_mass, self.r0_np)
+        if moved:
+            for array, c in zip((self.r0_x, self.r0_y, self.r0_z), range(3)):
+                upload(array, r0_mass[:, c])
+        kernels.sum_inertia(self.args)
+        if moved:
+            for array, c in zip((self.r0_x, self.r0_y, self.r0_z), range(3)):
+                upload(array, self.r0_np[:, c])
 
     @property
     def mass(self) -> float:
