@@ -14,7 +14,7 @@ def test_every_touching_pair_is_in_the_lists(sim_cache, schedule):
     the slots with a candidate, ascending (the parallel build writes it by chunks)."""
     sim = sim_cache(mesh=str(ASSETS / "sphere.obj"), count=27, scale=0.15, position=(0.0, -0.8, 0.0),
                     particle_mass=0.01, velocity_damping_stiffness=12.0, friction_stiffness=0.4,
-                    integrator="symplectic", sleep=False)
+                    integrator="symplectic", sleep=False, initial_velocity=(1.5, 0.0, 1.0))  # thrown: many contacts
     sim.schedule = schedule
     radius = sim.model.radius_np[sim.particle_bodies()]
     body = sim.particle_bodies()
