@@ -7,12 +7,15 @@ rigid.engine.forces.particle_force, the updates of rigid.engine.schemes written 
 step axis. What differs is only the schedule, so that Taichi can run each kernel backward:
 
 - ``count``  particles touching a plane at step s, per body (the m_eff = M / n of materials.py);
-- ``forces`` per particle: f = TODO 2 + each plane's force, into F[s], T[s] through TODO 3 and 4
-  (atomic sums), then drag; the sticking springs' step s + 1;
+- ``contacts`` per (particle, plane): the plane's force fc[s] and the sticking spring's step s + 1;
+- ``forces`` per particle: f = TODO 2 + Σ fc in plane order, into F[s], T[s] through TODO 3
+  and 4 (atomic sums), then drag;
 - ``update`` per body: explicit (TODO 5, 6, 7) or symplectic Euler from step s to s + 1;
 - ``rows``   the row of step s (x, q, v = P/M, ω, P, L) at frame f.
-Planes are unrolled (their count is a compile-time constant), so the particle loop keeps no
-running sum in a dynamic loop (Taichi would need an adstack for it). The engine skips planes
+A contact is a thread of its own (the materials' damper is a table lookup whose adjoint is
+long: unrolled over the planes in one particle's thread it took over a minute to compile), and
+the per-particle sum over planes is unrolled (their count is a compile-time constant), so no
+running sum lives in a dynamic loop (Taichi would need an adstack for it). The engine skips planes
 out of a block's reach; a skipped plane's force is exactly zero, so summing every plane gives
 the same force.
 """
@@ -72,37 +75,46 @@ def build(tape, units, scheme: str, materials: bool, num_planes: int):
             t.count[s, b] += touching
 
     @ti.kernel
-    def forces(s: ti.i32, n: ti.i32, dt: float):
+    def contacts(s: ti.i32, n: ti.i32, dt: float):
+        # One (particle, plane) a thread: the plane's force on the particle's sphere, into fc[s].
+        for i, j in ti.ndrange(n, P):
+            b = t.particle_body[i]
+            x, R, v, omega = body_motion(s, b)
+            r = matvec(R, t.r0[i])
+            p = x + r
+            pv = v + omega.cross(r)
+            g, k, radius, plane = t.g[None], t.k[None], t.radius[b], t.plane[j]
+            if ti.static(materials):  # rigid.engine.material_stages.block_forces
+                m_eff = t.M[b] / ti.max(t.count[s, b], 1)
+                normal = ti.Vector([plane[0], plane[1], plane[2]])
+                slip = t.slip[s, i, j]
+                c, memory = plane_damping(pair_restitution(t.e_b[b], t.e_p[j]), k, m_eff, dt, -g.dot(normal),
+                                          normal.dot(slip), normal.dot(pv), plane[3] + radius - normal.dot(p),
+                                          t.table, 0, t.c_world[None], True)
+                mu = pair_mu(t.mu_b[b], t.mu_p[j], t.mu_world[None])
+                fc, new_slip, touching = plane_force_sticking(p, pv, radius, plane, k, c,
+                                                              sticking_damping(k, m_eff, dt), mu, slip, dt)
+                t.fc[s, i, j] = fc
+                t.slip[s + 1, i, j] = new_slip + (memory * touching) * normal
+            else:  # rigid.engine.stages._block_loop
+                fc, _e = plane_force(p, pv, radius, plane, k, t.c_world[None], t.mu_world[None])
+                t.fc[s, i, j] = fc
+
+    @ti.kernel
+    def forces(s: ti.i32, n: ti.i32):
+        # Per particle: f = TODO 2 + the planes' forces in plane order, then TODO 3 and 4, then drag.
         for i in range(n):
             b = t.particle_body[i]
             x, R, v, omega = body_motion(s, b)
             r0 = t.r0[i]
             r = matvec(R, r0)
             p = x + r
-            pv = v + omega.cross(r)
-            g, k, radius = t.g[None], t.k[None], t.radius[b]
-            f = u.gravity_force(t.m[b], g)
-            if ti.static(materials):  # rigid.engine.material_stages.block_forces
-                m_eff = t.M[b] / ti.max(t.count[s, b], 1)
-                ct = sticking_damping(k, m_eff, dt)
-                for j in ti.static(range(P)):
-                    plane = t.plane[j]
-                    normal = ti.Vector([plane[0], plane[1], plane[2]])
-                    slip = t.slip[s, i, j]
-                    c, memory = plane_damping(pair_restitution(t.e_b[b], t.e_p[j]), k, m_eff, dt, -g.dot(normal),
-                                              normal.dot(slip), normal.dot(pv), plane[3] + radius - normal.dot(p),
-                                              t.table, 0, t.c_world[None], True)
-                    mu = pair_mu(t.mu_b[b], t.mu_p[j], t.mu_world[None])
-                    fc, new_slip, touching = plane_force_sticking(p, pv, radius, plane, k, c, ct, mu, slip, dt)
-                    f += fc
-                    t.slip[s + 1, i, j] = new_slip + (memory * touching) * normal
-            else:  # rigid.engine.stages._block_loop
-                for j in ti.static(range(P)):
-                    fc, _e = plane_force(p, pv, radius, t.plane[j], k, t.c_world[None], t.mu_world[None])
-                    f += fc
+            f = u.gravity_force(t.m[b], t.g[None])
+            for j in ti.static(range(P)):
+                f += t.fc[s, i, j]
             t.F[s, b] += u.total_force_term(f)
             t.T[s, b] += u.torque_term(p, x, R, r0, f)
-            drag = -t.drag[b] * pv  # rigid.engine.forces.particle_force, summed apart as add_external does
+            drag = -t.drag[b] * (v + omega.cross(r))  # rigid.engine.forces.particle_force, summed apart as add_external does
             t.F[s, b] += u.total_force_term(drag)
             t.T[s, b] += u.torque_term(p, x, R, r0, drag)
 
@@ -173,7 +185,7 @@ def build(tape, units, scheme: str, materials: bool, num_planes: int):
         pass
 
     k = Kernels()
-    for name, fn in dict(inertia=inertia, invert=invert, init=init, count=count, forces=forces, update=update,
+    for name, fn in dict(inertia=inertia, invert=invert, init=init, count=count, contacts=contacts, forces=forces, update=update,
                          rows=rows, save=save, restore=restore, save_grad=save_grad,
                          restore_grad=restore_grad).items():
         setattr(k, name, fn)

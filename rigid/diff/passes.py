@@ -64,7 +64,8 @@ class Pass:
                 k.rows(s, self._frame_at(g, s), B)
             if p.materials:
                 k.count(s, N)
-            k.forces(s, N, dt)
+            k.contacts(s, N, dt)
+            k.forces(s, N)
             k.update(s, B, dt)
         end = self._length(g)
         if write_rows:
@@ -142,7 +143,8 @@ class Pass:
                     k.rows.grad(s, frame, B)
                 if s > 0:
                     k.update.grad(s - 1, B, dt)
-                    k.forces.grad(s - 1, N, dt)
+                    k.forces.grad(s - 1, N)
+                    k.contacts.grad(s - 1, N, dt)
             k.save_grad(0, B, N)
             self._carried = [f.to_numpy() for f in self._checkpoint_fields()]
         k.init.grad(B)

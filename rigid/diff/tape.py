@@ -10,6 +10,7 @@ bounded by K, not by the horizon. Shapes (f the run's float; B bodies, N particl
   x, P, L, w    [steps, B] vec3   centre of mass (m), momenta (kg m/s, kg m²/s), ω (rad/s), world
   q             [steps, B] vec4   orientation, scalar first
   F, T          [steps, B] vec3   the substep's force and torque about x (atomic sums over particles)
+  fc            [steps, N, P] vec3  each plane's force on each particle
   slip          [steps, N, P] vec3  each (particle, plane) sticking spring (materials' law only)
   count         [steps, B] i32    particles touching a plane before the forces (m_eff = M / n)
   rows          r_x, r_q, r_v, r_w, r_P, r_L  [frames + 1, B]  the rows rigid.Simulator.advance gives
@@ -36,6 +37,7 @@ class Tape:
         self.x, self.P, self.L, self.w, self.F, self.T = (vec(3, sb) for _ in range(6))
         self.q = vec(4, sb)
         self.slip = vec(3, (steps, particles, planes) if materials else (1, 1, 1))
+        self.fc = vec(3, (steps, particles, planes))
         self.count = ti.field(ti.i32, shape=sb)
         scalar = lambda shape: ti.field(f, shape=shape, needs_grad=True)
         self.m, self.drag, self.e_b, self.mu_b, self.M = (scalar(bodies) for _ in range(5))
@@ -66,7 +68,7 @@ class Tape:
     DERIVED = ("M", "I0", "I0inv")
 
     def segment_fields(self):
-        return [getattr(self, n) for n in STATE] + [self.F, self.T, self.slip]
+        return [getattr(self, n) for n in STATE] + [self.F, self.T, self.slip, self.fc]
 
     def row_fields(self):
         return dict(x=self.r_x, q=self.r_q, v=self.r_v, omega=self.r_w, P=self.r_P, L=self.r_L)
