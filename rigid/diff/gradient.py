@@ -34,17 +34,35 @@ def ensure_taichi() -> None:
         runtime.init_taichi("cpu", fp64=True)
 
 
+def scene_config(scene):
+    """A SimConfig from a scene TOML's path, a dict of scene keys (as rigid.scene takes them) or a
+    SimConfig; a relative mesh is looked up in the working folder, then in the assets."""
+    from pathlib import Path
+
+    from ..config import SimConfig, load_scene, resolve_mesh
+
+    if isinstance(scene, SimConfig):
+        return scene.validate()
+    if isinstance(scene, dict):
+        keys = dict(scene)
+        here = Path.cwd() / "scene.toml"
+        if "mesh" in keys:
+            keys["mesh"] = resolve_mesh(here, str(keys["mesh"]))
+        if "bodies" in keys:
+            keys["bodies"] = tuple({**b, **({"mesh": resolve_mesh(here, str(b["mesh"]))} if "mesh" in b else {})}
+                                   for b in keys["bodies"])
+        for key in ("position", "orientation", "initial_velocity", "initial_angular_velocity", "gravity", "planes"):
+            if key in keys and not isinstance(keys[key], tuple):
+                keys[key] = tuple(keys[key])
+        return SimConfig(**keys).validate()
+    return SimConfig(**load_scene(scene)).validate()
+
+
 def prepare(scene, frames, wrt, units=None):
     """Checks (one line each, before any compile), then the Problem and a Pass ready to run."""
-    from ..api import load_scene
     from ..engine.units import check_units, default_units
 
-    if isinstance(scene, dict):
-        from ..api import scene as make_scene
-
-        config = make_scene(**scene)
-    else:
-        config = scene if hasattr(scene, "validate") else load_scene(scene)
+    config = scene_config(scene)
     scope.check_scene(config)
     names = scope.check_wrt(config, wrt)
     frames = scope.check_frames(frames)
