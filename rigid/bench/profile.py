@@ -18,7 +18,7 @@ import time
 def _kernels(units):
     import taichi as ti
 
-    from ..engine import grid, neighbours, pair_once, pair_stages, schemes, stages
+    from ..engine import force_loop, grid, neighbours, pair_once, pair_stages, schemes, stages
     from ..engine.arrays import ModelArgs, ScratchArgs, StateArgs, WorldArgs
 
     M, S, W, C = ModelArgs(), StateArgs(), WorldArgs(), ScratchArgs()
@@ -66,7 +66,7 @@ def _kernels(units):
         ti.loop_config(serialize=True)
         for _ in range(reps):
             for k in range(model.block_start.shape[0]):
-                stages.block_forces(u, model, state, world, scratch, k, True, False)
+                force_loop.block_forces(u, model, state, world, scratch, k, True, False, False, 0.0, True)
 
     @ti.kernel
     def update(model: M, state: S, world: W, scratch: C, reps: ti.i32):

@@ -1,7 +1,7 @@
 """The external forces: the one place where a force that is not contact enters the substep.
 
 ``add_external`` adds them to a block's share of F and τ, after the block's particle loop
-(stages.py, material_stages.py), through the student's TODO 3 (F += f) and TODO 4 (τ += r × f),
+(force_loop.py), through the student's TODO 3 (F += f) and TODO 4 (τ += r × f),
 so that P and L change exactly by what they impart, in every scene and schedule:
 
 - ``particle_force``: a term on every particle, summed over the block's particles in a pass of

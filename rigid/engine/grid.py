@@ -204,3 +204,13 @@ def around_range(s: ti.template(), g, r):
     (rows dz, dy = -1..1, z outer, each row's row_range parts 0..2): one loop over r walks them
     in that fixed order."""
     return row_range(s, g[0], g[1] + (r // 3) % 3 - 1, g[2] + r // 9 - 1, r % 3)
+
+
+@ti.func
+def each_slot_around(scratch: ti.template(), g, visit: ti.template(), ctx: ti.template()):
+    """visit(ctx, slot) for each slot of the grid's sorted order in the 27 cells around cell g, in
+    the fixed order of grid.around_range (the lists' builds and the overflow walk share it)."""
+    for r in range(ROWS_AROUND):
+        lo, hi = around_range(scratch, g, r)
+        for slot in range(lo, hi):
+            visit(ctx, slot)

@@ -1,26 +1,27 @@
-"""The force stages with materials: stage 3a and 3b of stages.py when a scene sets restitution,
-friction, [[plane]] or [[static]] (kernels.py compiles them instead, so that a scene without
-them runs the handout's law bit for bit as before).
+"""What a scene with restitution, friction, [[plane]] or [[static]] adds to the substep
+(substep.py compiles it in only then, so that a scene without them runs the handout's law bit
+for bit as before):
 
-What differs from stages.py:
 - each contact's damper comes from the two sides' restitution and the mass it moves
   (materials.py: c = 2 ζ' √(k m_eff), m_eff = M / n with n the body's contacts: with the planes
   counted before the forces (``count_plane_block``), with other bodies as the last pair stage
   predicted them (``pair_stage``); summed per body by ``sum_counts``, in ``scratch.contacts``);
-- friction on the planes sticks: a tangential spring per (particle, plane), in
-  ``state.plane_slip`` [N · MAX_PLANES] (zeroed where the particle is clear of the plane);
-- a static body (``model.body_material[b][2]`` = 1) gets no forces and is not integrated (kernels.py);
+- the pair stage with those dampers (``pair_stage``); the planes' law with sticking friction is
+  plane_terms.material_planes, in the one force loop (force_loop.py);
+- a static body (``model.body_material[b][2]`` = 1) gets no forces and is not integrated (substep.py);
   the pair stage acts on the moving side only, with the static side's mass infinite.
-Every sum keeps the fixed orders of stages.py (slots, blocks), so runs stay bit-reproducible.
+Every sum keeps fixed orders (slots, blocks), so runs stay bit-reproducible.
 """
+from collections import namedtuple
+
 import taichi as ti
 
-from . import forces, grid, neighbours
-from .contact import pair_force_damped, plane_force_sticking
-from .materials import normal_damping, pair_mu, pair_restitution, plane_damping, sticking_damping
+from . import candidates
+from .contact import pair_force_damped
+from .materials import normal_damping, pair_mu, pair_restitution, sticking_damping
 from .matvec import matvec
-from .stages import gravity, num_planes, planes_in_reach, wrench
-from .state import DAMPING, DT, FRICTION, MATERIAL_TABLE, MATERIALS, MAX_PLANES, STIFFNESS
+from .stages import num_planes, planes_in_reach
+from .state import DAMPING, DT, FRICTION, MATERIAL_TABLE, MATERIALS, STIFFNESS
 
 
 @ti.func
@@ -29,7 +30,7 @@ def is_static(model: ti.template(), b):
 
 
 @ti.func
-def _body_count(model: ti.template(), state: ti.template(), scratch: ti.template(), b, kind):
+def body_contacts(model: ti.template(), state: ti.template(), scratch: ti.template(), b, kind):
     """Body b's contacts of the last evaluation (kind 0: planes, 1: pairs) in scratch.contacts."""
     base = state.particle_x.shape[0] + 2 * model.block_start.shape[0]
     return scratch.contacts[base + 2 * b + kind]
@@ -50,8 +51,8 @@ def _pair_mass(model: ti.template(), a, b):
 @ti.func
 def _pair_count(model: ti.template(), state: ti.template(), scratch: ti.template(), a, b):
     """Contacts sharing the pair's load: the larger pair count of its moving sides (at least 1)."""
-    n_a = 0 if is_static(model, a) else _body_count(model, state, scratch, a, 1)
-    n_b = 0 if is_static(model, b) else _body_count(model, state, scratch, b, 1)
+    n_a = 0 if is_static(model, a) else body_contacts(model, state, scratch, a, 1)
+    n_b = 0 if is_static(model, b) else body_contacts(model, state, scratch, b, 1)
     return ti.max(ti.max(n_a, n_b), 1)
 
 
@@ -85,10 +86,22 @@ def _material_pair(model: ti.template(), state: ti.template(), world: ti.templat
     return f, couple, touching
 
 
+MaterialSums = namedtuple("MaterialSums", "model state world scratch a p r_a x_a v_a w_a f couple touching")
+
+
+@ti.func
+def _add_material_pair(c: ti.template(), j):
+    """pair_stage's visitor: candidate j's force, couple and contact count added to the sums."""
+    fp, cp, hit = _material_pair(c.model, c.state, c.world, c.scratch, c.a, c.p, c.r_a, c.x_a, c.v_a, c.w_a, j)
+    c.f += fp
+    c.couple += cp
+    c.touching += hit
+
+
 @ti.func
 def pair_stage(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(), i):
-    """Stage 3a with materials: slot i's force and couple from its neighbours (the other bodies'
-    particles in its list, neighbours.py; the build's grid where the list overflowed), and how
+    """Stage 3a with materials: slot i's force and couple from its candidates (the other bodies'
+    particles near it, candidates.py), and how
     many of them touch it or will after this substep at their closing speed (the next force
     evaluation's count: a count of those touching only would be 0 on a contact's first substep
     and over-damp it, 19 % low at e = 0.1 for volume balls head-on; counting them anew before
@@ -100,90 +113,12 @@ def pair_stage(model: ti.template(), state: ti.template(), world: ti.template(),
     if not is_static(model, a):
         p, r_a = state.particle_x[i], model.particle_radius[a]
         x_a, v_a, w_a = state.x[a], state.v[a], state.omega[a]
-        stride = neighbours.list_stride(scratch, state)
-        n = scratch.nbr_count[i]
-        if n <= stride:
-            for t in range(n):
-                fp, cp, hit = _material_pair(model, state, world, scratch, a, p, r_a, x_a, v_a, w_a,
-                                             scratch.nbr_list[i * stride + t])
-                f += fp
-                couple += cp
-                touching += hit
-        else:  # the same candidates, in the same order, from the grid of the last build
-            g = grid.cell_coords(scratch, scratch.build_x[i])
-            for r in range(grid.ROWS_AROUND):
-                lo, hi = grid.around_range(scratch, g, r)
-                for slot in range(lo, hi):
-                    if scratch.sorted_body[slot] != a:
-                        fp, cp, hit = _material_pair(model, state, world, scratch, a, p, r_a, x_a, v_a,
-                                                     w_a, scratch.sorted_particle[slot])
-                        f += fp
-                        couple += cp
-                        touching += hit
+        candidates.each_candidate(state, scratch, i, a, _add_material_pair,
+                                  ti.static(MaterialSums(model, state, world, scratch, a, p, r_a, x_a, v_a,
+                                                         w_a, f, couple, touching)))
     scratch.particle_f[i] = f
     scratch.particle_couple[i] = couple
     scratch.contacts[i] = touching
-
-
-@ti.func
-def block_forces(u: ti.template(), model: ti.template(), state: ti.template(), world: ti.template(),
-                 scratch: ti.template(), k, pairs: ti.template(), step, touch_part: ti.template()):
-    """Stage 3b with materials for block k: as stages.block_forces, the planes each with its
-    material and sticking spring (``step``: the time this evaluation's force acts, Δt, or RK4's
-    weight of it; ``touch_part``: materials.plane_damping's first-step rule, the Euler schemes),
-    and the block's plane and pair contacts counted into partial_count."""
-    b = model.block_body[k]
-    start = model.block_start[k]
-    end = start + model.block_count[k]
-    F = ti.Vector.zero(float, 3)
-    tau = ti.Vector.zero(float, 3)
-    plane_contacts = 0
-    pair_contacts = 0
-    if not is_static(model, b):
-        x, R, v, omega = state.x[b], state.R[b], state.v[b], state.omega[b]
-        near = planes_in_reach(model, state, world, k)
-        m, g = model.particle_mass[b], gravity(world)
-        stiffness, dt = world.values[STIFFNESS], world.values[DT]
-        c_world, mu_world = world.values[DAMPING], world.values[FRICTION]
-        radius = model.particle_radius[b]
-        m_eff = model.body_mass[b] / ti.max(_body_count(model, state, scratch, b, 0), 1)
-        mat = model.body_material[b]
-        ct = sticking_damping(stiffness, m_eff, dt)
-        for i in range(start, end):
-            r0 = ti.Vector([model.r0_x[i], model.r0_y[i], model.r0_z[i]])
-            r = matvec(R, r0)
-            p = x + r
-            pv = v + omega.cross(r)
-            f = u.gravity_force(m, g)
-            for j in range(num_planes(world)):
-                slot = i * MAX_PLANES + j
-                if near & (1 << j):
-                    plane = world.planes[j]
-                    normal = ti.Vector([plane[0], plane[1], plane[2]])
-                    slip = state.plane_slip[slot]
-                    c, memory = plane_damping(pair_restitution(mat[1], world.values[MATERIALS + 4 * j + 1]), stiffness,
-                                              m_eff, dt, -g.dot(normal), normal.dot(slip), normal.dot(pv),
-                                              plane[3] + radius - normal.dot(p), world.values,
-                                              MATERIALS + MATERIAL_TABLE, c_world, touch_part)
-                    mu = pair_mu(mat[0], world.values[MATERIALS + 4 * j], mu_world)
-                    fc, slip, touching = plane_force_sticking(p, pv, radius, plane, stiffness, c, ct, mu, slip, step)
-                    f += fc
-                    state.plane_slip[slot] = slip + (memory * touching) * normal  # zero once clear
-                    plane_contacts += touching
-                else:
-                    state.plane_slip[slot] = ti.Vector.zero(float, 3)
-            couple = ti.Vector.zero(float, 3)
-            if ti.static(pairs):
-                f += scratch.particle_f[i]
-                couple = scratch.particle_couple[i]
-                pair_contacts += scratch.contacts[i]
-            F += u.total_force_term(f)
-            tau += u.torque_term(p, x, R, r0, f) + couple
-    F, tau = forces.add_external(u, model, state, world, b, k, F, tau)
-    scratch.block_wrench[k] = wrench(F, tau)
-    base = state.particle_x.shape[0]
-    scratch.contacts[base + 2 * k] = plane_contacts
-    scratch.contacts[base + 2 * k + 1] = pair_contacts
 
 
 @ti.func

@@ -41,6 +41,8 @@ bound on its particles' motion since then, and (when it asks close_pairs_moved) 
 particles' distance from its centre now, then its touching particles (part_cut.py; 16
 floats).
 """
+from collections import namedtuple
+
 import taichi as ti
 
 from . import grid, scan, schedule
@@ -92,6 +94,23 @@ def build_list(model: ti.template(), state: ti.template(), scratch: ti.template(
         build_own_list(model, state, scratch, i)
 
 
+OwnList = namedtuple("OwnList", "model scratch i body p r_a skin stride n")
+
+
+@ti.func
+def _append_near(c: ti.template(), slot):
+    """build_own_list's visitor: slot (of the sorted grid) appended to i's list if it is another
+    body's particle within reach + skin; counted past the stride."""
+    b = c.scratch.sorted_body[slot]
+    if b != c.body:
+        d = c.scratch.sorted_x[slot] - c.p
+        reach = c.r_a + c.model.particle_radius[b] + c.skin
+        if d.dot(d) < reach * reach:
+            if c.n < c.stride:
+                c.scratch.nbr_list[c.i * c.stride + c.n] = c.scratch.sorted_particle[slot]
+            c.n += 1
+
+
 @ti.func
 def build_own_list(model: ti.template(), state: ti.template(), scratch: ti.template(), i):
     """Slot i's list from the 27 cells around it: other bodies' particles within reach + skin.
@@ -99,22 +118,11 @@ def build_own_list(model: ti.template(), state: ti.template(), scratch: ti.templ
     runs it (the half shell's appends to the other side's list, atomics on other particles'
     counts, made Taichi's SPIR-V code skip some particles' stores on Vulkan/lavapipe)."""
     a = model.particle_body[i]
-    p, r_a = state.particle_x[i], model.particle_radius[a]
-    skin = scratch.grid_params[1]
+    p, r_a, skin = state.particle_x[i], model.particle_radius[a], scratch.grid_params[1]
     stride = list_stride(scratch, state)
-    g = grid.cell_coords(scratch, p)
     n = 0
-    for r in range(grid.ROWS_AROUND):
-        lo, hi = grid.around_range(scratch, g, r)
-        for slot in range(lo, hi):
-            b = scratch.sorted_body[slot]
-            if b != a:
-                d = scratch.sorted_x[slot] - p
-                reach = r_a + model.particle_radius[b] + skin
-                if d.dot(d) < reach * reach:
-                    if n < stride:
-                        scratch.nbr_list[i * stride + n] = scratch.sorted_particle[slot]
-                    n += 1
+    grid.each_slot_around(scratch, grid.cell_coords(scratch, p), _append_near,
+                          ti.static(OwnList(model, scratch, i, a, p, r_a, skin, stride, n)))
     scratch.nbr_count[i] = n
     scratch.build_x[i] = p
 

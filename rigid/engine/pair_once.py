@@ -29,9 +29,11 @@ an awake particle gets the same terms, in the same order, whether bodies sleep o
 with sleeping on keeps the bits of one with it off until a first body falls asleep, and
 after, wherever the sleepers are exactly at rest.
 """
+from collections import namedtuple
+
 import taichi as ti
 
-from . import grid, neighbours, part_cut, sleep, stages
+from . import candidates, neighbours, part_cut, sleep, stages
 from .pair_stages import pair_between
 
 
@@ -54,31 +56,27 @@ def overlap(state: ti.template(), model: ti.template(), p, r_a, j):
     return dist2 < reach * reach and dist2 > 0
 
 
+SleeperNote = namedtuple("SleeperNote", "model state scratch p r_a waker")
+
+
 @ti.func
-def _note_sleepers(model: ti.template(), state: ti.template(), scratch: ti.template(), i, a, waker, stride):
-    """Particle i of body a, which does not rest: every sleeping body in its list (or, if the list
-    overflowed, in its grid walk) is seen (the sweep visits it), and a ``waker`` (a moving body)
-    marks those it overlaps as woken."""
+def _note_sleeper(c: ti.template(), j):
+    """_note_sleepers' visitor: a sleeping body of candidate j is seen (the sweep visits it), and a
+    ``waker`` (a moving body) marks it woken if j overlaps the particle at p."""
+    b = c.model.particle_body[j]
+    if sleep.asleep(c.state, b):
+        neighbours.see_sleeper(c.scratch, b)
+        if c.waker and overlap(c.state, c.model, c.p, c.r_a, j):
+            sleep.mark_woken(c.state, b)
+
+
+@ti.func
+def _note_sleepers(model: ti.template(), state: ti.template(), scratch: ti.template(), i, a, waker):
+    """Particle i of body a, which does not rest: every sleeping body among its candidates is seen
+    (the sweep visits it), and a ``waker`` (a moving body) marks those it overlaps as woken."""
     p, r_a = state.particle_x[i], model.particle_radius[a]
-    n = scratch.nbr_count[i]
-    if n <= stride:
-        for s in range(n):
-            j = scratch.nbr_list[i * stride + s]
-            b = model.particle_body[j]
-            if sleep.asleep(state, b):
-                neighbours.see_sleeper(scratch, b)
-                if waker and overlap(state, model, p, r_a, j):
-                    sleep.mark_woken(state, b)
-    else:
-        g = grid.cell_coords(scratch, scratch.build_x[i])
-        for r in range(grid.ROWS_AROUND):
-            lo, hi = grid.around_range(scratch, g, r)
-            for slot in range(lo, hi):
-                b = scratch.sorted_body[slot]
-                if b != a and sleep.asleep(state, b):
-                    neighbours.see_sleeper(scratch, b)
-                    if waker and overlap(state, model, p, r_a, scratch.sorted_particle[slot]):
-                        sleep.mark_woken(state, b)
+    candidates.each_candidate(state, scratch, i, a, _note_sleeper,
+                              ti.static(SleeperNote(model, state, scratch, p, r_a, waker)))
 
 
 @ti.func
@@ -89,18 +87,17 @@ def mark_woken(model: ti.template(), state: ti.template(), world: ti.template(),
     pairs with resting sleepers, all skipped: the sweep passes over it at the cost of one test,
     so a settled pile costs next to nothing. Walks bodies (their runs of the active list,
     neighbours.index_active_by_body), not the whole list, for that reason."""
-    stride = neighbours.list_stride(scratch, state)
     for b in range(state.x.shape[0]):
         if not sleep.asleep(state, b):
             waker = sleep.moving(state, world, scratch, b)
             first, end = neighbours.body_active_range(state, scratch, b)
             for t in range(first, end):
-                _note_sleepers(model, state, scratch, scratch.active[t], b, waker, stride)
+                _note_sleepers(model, state, scratch, scratch.active[t], b, waker)
     for b in range(state.x.shape[0]):
         if sleep.asleep(state, b) and not sleep.resting(state, b):  # woken just now
             first, end = neighbours.body_active_range(state, scratch, b)
             for t in range(first, end):
-                _note_sleepers(model, state, scratch, scratch.active[t], b, False, stride)
+                _note_sleepers(model, state, scratch, scratch.active[t], b, False)
 
 
 @ti.func
@@ -181,46 +178,43 @@ def sweep(model: ti.template(), state: ti.template(), world: ti.template(), scra
             sweep_particle(model, state, scratch, i, a, False, body, k, kd, mu, stride, sleeping, -1)
 
 
+SweepTurn = namedtuple("SweepTurn", "model state scratch i p r_a x_a v_a w_a a_rests k kd mu reach_max stride "
+                                     "sleeping part listed f couple")
+
+
+@ti.func
+def _sweep_pair(c: ti.template(), j):
+    """sweep_particle's visitor: the pair with candidate j evaluated at i's turn if j is above i
+    (the lower slots gave theirs in their turns) or i's list overflowed (then i sums every pair
+    itself); its −f given to j if j is above i and has a list (an overflowed j sums it itself)."""
+    if (j > c.i or not c.listed) and wanted(c.model, c.state, c.a_rests, j, c.sleeping):
+        fp, contact, _e = pair_between(c.model, c.state, c.i, c.p, c.r_a, c.x_a, c.v_a, c.w_a, c.k, c.kd, c.mu, j,
+                                       c.reach_max)
+        if touching(fp):
+            c.f += fp
+            c.couple += (contact - c.p).cross(fp)
+            if j > c.i and c.scratch.nbr_count[j] <= c.stride and gives_to(c.model, c.state, c.scratch, j, c.part):
+                give(c.state, c.scratch, j, fp, contact)
+
+
 @ti.func
 def sweep_particle(model: ti.template(), state: ti.template(), scratch: ti.template(), i, a, a_rests, body: ti.template(),
                    k, kd, mu, stride, sleeping: ti.template(), part):
     """The sweep's turn of active particle i (of body a, resting or not; ``body``: its (radius, x,
     v, ω)): its pairs with higher slots evaluated and given (``part`` >= 0: only to the particles
-    of that part, pair_parts.py), added to what the lower slots gave it."""
-    zero = ti.Vector.zero(float, 3)
+    of that part, pair_parts.py), added, in slot order, to what the lower slots gave it; so a
+    particle's terms come in its list's order, as in the full visit (pair_stages.pair_forces)."""
     p = state.particle_x[i]
     r_a, x_a, v_a, w_a = body
+    listed = scratch.nbr_count[i] <= stride
+    f = ti.Vector.zero(float, 3)  # an overflowed particle: lower slots gave it nothing
+    couple = ti.Vector.zero(float, 3)
+    if listed:
+        f = scratch.particle_f[i]  # the pairs with lower slots, given in their turns
+        couple = scratch.particle_couple[i]
     reach_max = r_a + scratch.grid_params[3]
-    f = scratch.particle_f[i]  # the pairs with lower slots, given in their turns
-    couple = scratch.particle_couple[i]
-    n = scratch.nbr_count[i]
-    if n <= stride:
-        base = i * stride
-        for t in range(n):  # the entries above i, from the list's end down (it is sorted by slot)
-            j = scratch.nbr_list[base + n - 1 - t]
-            if j < i:  # the rest are below i: pairs evaluated in their turns
-                break
-            if wanted(model, state, a_rests, j, sleeping):
-                fp, c, _e = pair_between(model, state, i, p, r_a, x_a, v_a, w_a, k, kd, mu, j, reach_max)
-                if touching(fp):
-                    f += fp
-                    couple += (c - p).cross(fp)
-                    if scratch.nbr_count[j] <= stride and gives_to(model, state, scratch, j, part):  # else j sums it
-                        give(state, scratch, j, fp, c)
-    else:  # the grid walk of pair_stages.pair_forces: every pair of i, summed here
-        f = zero
-        couple = zero
-        g = grid.cell_coords(scratch, scratch.build_x[i])
-        for r in range(grid.ROWS_AROUND):
-            lo, hi = grid.around_range(scratch, g, r)
-            for slot in range(lo, hi):
-                j = scratch.sorted_particle[slot]
-                if scratch.sorted_body[slot] != a and wanted(model, state, a_rests, j, sleeping):
-                    fp, c, _e = pair_between(model, state, i, p, r_a, x_a, v_a, w_a, k, kd, mu, j, reach_max)
-                    if touching(fp):
-                        f += fp
-                        couple += (c - p).cross(fp)
-                        if j > i and scratch.nbr_count[j] <= stride and gives_to(model, state, scratch, j, part):
-                            give(state, scratch, j, fp, c)
+    candidates.each_candidate(state, scratch, i, a, _sweep_pair,
+                              ti.static(SweepTurn(model, state, scratch, i, p, r_a, x_a, v_a, w_a, a_rests, k, kd, mu,
+                                                  reach_max, stride, sleeping, part, listed, f, couple)))
     scratch.particle_f[i] = f
     scratch.particle_couple[i] = couple

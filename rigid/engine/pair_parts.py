@@ -33,9 +33,11 @@ of two resting sleepers as the sweep does; once one body in MANY_ASLEEP sleeps, 
 schedule runs the waves of pair_stages.visit_all instead, which pass over a resting sleeper
 at once (``prepare``).
 """
+from collections import namedtuple
+
 import taichi as ti
 
-from . import grid, neighbours, pair_once, pair_stages, part_cut, schedule, sleep, stages
+from . import candidates, neighbours, pair_once, pair_stages, part_cut, schedule, sleep, stages
 from .pair_once import give, sweep_particle, touching
 from .pair_stages import pair_between
 
@@ -78,60 +80,60 @@ def prepare(model: ti.template(), state: ti.template(), scratch: ti.template(), 
     return scratch.nbr_flags[slot]
 
 
+WakeCheck = namedtuple("WakeCheck", "model state world scratch body p r")
+
+
+@ti.func
+def _wake_if(c: ti.template(), j):
+    """wake_if_touched's visitor: the sleeping body is marked woken if candidate j, of a moving awake
+    body, overlaps its particle at p (radius r)."""
+    a = c.model.particle_body[j]
+    if (not sleep.asleep(c.state, a) and pair_once.overlap(c.state, c.model, c.p, c.r, j)
+            and sleep.moving(c.state, c.world, c.scratch, a)):
+        sleep.mark_woken(c.state, c.body)
+
+
 @ti.func
 def wake_if_touched(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(), b):
     """Sleeping body b is marked woken if a particle of a moving awake body touches one of its own
-    (sleep.py), found from b's side: its particles' lists hold exactly the particles that have
-    them in theirs, so a few sleepers cost a few lists, not a pass over every awake particle's
-    (that pass cost 6 ms a substep on 1,000 volume spheres). Before the parts, so that each part
-    reads final resting flags."""
+    (sleep.py), found from b's side: its particles' candidates are exactly the particles that
+    have them among theirs, so a few sleepers cost a few lists, not a pass over every awake
+    particle's (that pass cost 6 ms a substep on 1,000 volume spheres). Before the parts, so
+    that each part reads final resting flags."""
     if sleep.asleep(state, b):
         r_b = model.particle_radius[b]
-        stride = neighbours.list_stride(scratch, state)
         for s in range(model.body_start[b], model.body_start[b] + model.body_count[b]):
             p = state.particle_x[s]
-            n = scratch.nbr_count[s]
-            if n <= stride:
-                for t in range(n):
-                    j = scratch.nbr_list[s * stride + t]
-                    if _wakes(model, state, world, scratch, p, r_b, j):
-                        sleep.mark_woken(state, b)
-            else:  # an overflowed list: the build's grid around its build position
-                g = grid.cell_coords(scratch, scratch.build_x[s])
-                for r in range(grid.ROWS_AROUND):
-                    lo, hi = grid.around_range(scratch, g, r)
-                    for slot in range(lo, hi):
-                        if scratch.sorted_body[slot] != b and _wakes(model, state, world, scratch, p, r_b,
-                                                                      scratch.sorted_particle[slot]):
-                            sleep.mark_woken(state, b)
+            candidates.each_candidate(state, scratch, s, b, _wake_if,
+                                      ti.static(WakeCheck(model, state, world, scratch, b, p, r_b)))
+
+
+Collect = namedtuple("Collect", "model state scratch i part i_rests k kd mu r_max sleeping")
 
 
 @ti.func
-def _wakes(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(), p, r, j):
-    """Whether slot j, of a moving awake body, overlaps the sleeping particle at p (radius r)."""
-    a = model.particle_body[j]
-    return (not sleep.asleep(state, a) and pair_once.overlap(state, model, p, r, j)
-            and sleep.moving(state, world, scratch, a))
+def _collect(c: ti.template(), j):
+    """collect_from_other_parts' visitor: a partner j below i in another part gives its term as its
+    own sweep turn computes it (from j's side: pair_between evaluates from the lower slot)."""
+    if j < c.i:
+        b = c.model.particle_body[j]
+        if part_cut.part_of(c.state, c.scratch, b) != c.part and pair_once.wanted(c.model, c.state, c.i_rests, j,
+                                                                                  c.sleeping):
+            r_b = c.model.particle_radius[b]
+            fj, contact, _e = pair_between(c.model, c.state, j, c.state.particle_x[j], r_b, c.state.x[b], c.state.v[b],
+                                           c.state.omega[b], c.k, c.kd, c.mu, c.i, r_b + c.r_max)
+            if touching(fj):
+                give(c.state, c.scratch, c.i, fj, contact)
 
 
 @ti.func
 def collect_from_other_parts(model: ti.template(), state: ti.template(), scratch: ti.template(), i, part, i_rests,
-                             k, kd, mu, stride, r_max, sleeping: ti.template()):
+                             k, kd, mu, r_max, sleeping: ti.template()):
     """Listed particle i of ``part``, at its turn: the terms of its touching partners below it in
     other parts, ascending, each as that partner's sweep turn computes and gives it (an
     overflowed particle sums every pair itself at its turn)."""
-    base = i * stride
-    for t in range(scratch.nbr_count[i]):
-        j = scratch.nbr_list[base + t]
-        if j >= i:  # sorted: the rest are above i, its own turn's
-            break
-        b = model.particle_body[j]
-        if part_cut.part_of(state, scratch, b) != part and pair_once.wanted(model, state, i_rests, j, sleeping):
-            r_b = model.particle_radius[b]
-            fj, c, _e = pair_between(model, state, j, state.particle_x[j], r_b, state.x[b], state.v[b], state.omega[b],
-                                     k, kd, mu, i, r_b + r_max)
-            if touching(fj):
-                give(state, scratch, i, fj, c)
+    candidates.each_candidate(state, scratch, i, model.particle_body[i], _collect,
+                              ti.static(Collect(model, state, scratch, i, part, i_rests, k, kd, mu, r_max, sleeping)))
 
 
 @ti.func
@@ -161,8 +163,7 @@ def sweep_part(model: ti.template(), state: ti.template(), world: ti.template(),
                 n = scratch.nbr_count[i]
                 if n > 0:
                     if n <= stride:
-                        collect_from_other_parts(model, state, scratch, i, part, a_rests, k, kd, mu, stride, r_max,
-                                                 sleeping)
+                        collect_from_other_parts(model, state, scratch, i, part, a_rests, k, kd, mu, r_max, sleeping)
                     sweep_particle(model, state, scratch, i, b, a_rests, body, k, kd, mu, stride, sleeping, part)
                     if touching(scratch.particle_f[i]):  # final: no later turn gives to i
                         touches += 1

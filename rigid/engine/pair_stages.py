@@ -4,9 +4,11 @@ particles the pair stage reads), 3a ``pair_stage`` (each particle's force and co
 other bodies' particles in its neighbour list, neighbours.py; the law is contact.py's, each
 pair evaluated by ``pair_between``), and ``pair_forces``, which the frame's contact energy
 also sums. On one thread pair_once.py's sweep replaces 3a."""
+from collections import namedtuple
+
 import taichi as ti
 
-from . import grid, motion, neighbours, refresh, schedule, sleep, stages
+from . import candidates, motion, neighbours, refresh, schedule, sleep, stages
 from .contact import pair_contact
 
 
@@ -114,33 +116,34 @@ def pair_between(model: ti.template(), state: ti.template(), i, p, r_a, x_a, v_a
     return f, c, e
 
 
-@ti.func
-def _visit(model: ti.template(), state: ti.template(), i, p, r_a, x_a, v_a, w_a, k, kd, mu, j, reach_max, waker,
-           wake: ti.template()):
-    """One candidate j of pair_forces (from the list or the grid walk): its pair force, and with
-    ``wake``, a moving body (``waker``) marks the sleeping body of j it touches as woken."""
-    f, c, e = pair_between(model, state, i, p, r_a, x_a, v_a, w_a, k, kd, mu, j, reach_max)
-    couple = (c - p).cross(f)  # apart: zero force, a zero couple
-    if ti.static(wake):
-        if waker and e > 0 and sleep.asleep(state, model.particle_body[j]):
-            sleep.mark_woken(state, model.particle_body[j])
-    return f, couple, e
+PairSums = namedtuple("PairSums", "model state i p r_a x_a v_a w_a k kd mu reach_max waker wake f couple energy")
 
 
 @ti.func
-def _in_contact(f, e):
-    """A pair that touches (stored energy, or a force): the sums take only these, so which other
-    candidates a list holds (its skin, when it was built) changes no bit of them."""
-    return e > 0 or f[0] != 0 or f[1] != 0 or f[2] != 0
+def _add_pair(c: ti.template(), j):
+    """pair_forces' visitor: candidate j's force, couple about pᵢ and half energy added to the sums
+    when the pair touches (the sums take only these, so which other candidates a list holds, its
+    skin, when it was built, changes no bit of them; zeros added or not would round the sums
+    differently); with ``wake``, a moving body (``waker``) marks the sleeping body of j it
+    touches as woken."""
+    f, contact, e = pair_between(c.model, c.state, c.i, c.p, c.r_a, c.x_a, c.v_a, c.w_a, c.k, c.kd, c.mu, j,
+                                 c.reach_max)
+    if ti.static(c.wake):
+        b = c.model.particle_body[j]
+        if c.waker and e > 0 and sleep.asleep(c.state, b):
+            sleep.mark_woken(c.state, b)
+    if e > 0 or f[0] != 0 or f[1] != 0 or f[2] != 0:
+        c.f += f
+        c.couple += (contact - c.p).cross(f)
+        c.energy += e
 
 
 @ti.func
 def pair_forces(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(), i,
                 wake: ti.template(), waking=0):
-    """Σ over slot i's neighbours (other bodies' particles, neighbours.py) of (force, couple about
-    pᵢ, contact energy), in list order; a particle whose list overflowed walks the build's grid.
-    With ``wake`` (compiled in) and ``waking`` (now), a moving body marks the sleeping bodies it
-    touches as woken (sleep.py)."""
+    """Σ over slot i's candidates (other bodies' particles, candidates.py) of (force, couple about
+    pᵢ, contact energy), in slot order. With ``wake`` (compiled in) and ``waking`` (now), a
+    moving body marks the sleeping bodies it touches as woken (sleep.py)."""
     a = model.particle_body[i]
     p, r_a = state.particle_x[i], model.particle_radius[a]
     k, kd, mu = stages.contact_constants(world)
@@ -152,28 +155,9 @@ def pair_forces(model: ti.template(), state: ti.template(), world: ti.template()
     waker = 0
     if ti.static(wake):
         waker = sleep.moving(state, world, scratch, a) * waking
-    stride = neighbours.list_stride(scratch, state)
-    n = scratch.nbr_count[i]
-    if n <= stride:
-        for t in range(n):
-            fp, cp, ep = _visit(model, state, i, p, r_a, x_a, v_a, w_a, k, kd, mu, scratch.nbr_list[i * stride + t],
-                                reach_max, waker, wake)
-            if _in_contact(fp, ep):  # (zeros added or not would round the sums differently)
-                f += fp
-                couple += cp
-                energy += ep
-    else:  # the same candidates, in the same order, from the grid of the last build
-        g = grid.cell_coords(scratch, scratch.build_x[i])
-        for r in range(grid.ROWS_AROUND):
-            lo, hi = grid.around_range(scratch, g, r)
-            for slot in range(lo, hi):
-                if scratch.sorted_body[slot] != a:
-                    fp, cp, ep = _visit(model, state, i, p, r_a, x_a, v_a, w_a, k, kd, mu,
-                                        scratch.sorted_particle[slot], reach_max, waker, wake)
-                    if _in_contact(fp, ep):
-                        f += fp
-                        couple += cp
-                        energy += ep
+    candidates.each_candidate(state, scratch, i, a, _add_pair,
+                              ti.static(PairSums(model, state, i, p, r_a, x_a, v_a, w_a, k, kd, mu, reach_max,
+                                                 waker, wake, f, couple, energy)))
     return f, couple, energy
 
 

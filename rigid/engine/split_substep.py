@@ -21,7 +21,7 @@ active list again (the 24,000-body pile: ~42 µs a refreshed body with all of it
 """
 import taichi as ti
 
-from . import pair_stages, refresh
+from . import pair_stages, refresh, substep
 from .arrays import ModelArgs, ScratchArgs, StateArgs, WorldArgs
 from .state import DT
 
@@ -34,10 +34,11 @@ class SplitSubstep:
         self.motion, self.refresh, self.build, self.place, self.forces = motion, refresh, build, place, forces
 
 
-def make(place_and_build, evaluate, refreshing: bool) -> SplitSubstep:
-    """The parts from kernels.py's stages (``place_and_build``: placement and the gated rebuild
-    after the motion test; ``evaluate``: the forces and the update; ``refreshing``: partial
-    rebuilds of the lists, refresh.py), for one set of kernels."""
+def make(plan) -> SplitSubstep:
+    """The parts of substep.py's stages (``place_and_build``: placement and the gated rebuild after
+    the motion test; ``step``: the forces and the update) for one ``plan`` (substep.Plan; with
+    ``refreshing``, partial rebuilds of the lists, refresh.py)."""
+    refreshing = plan.refreshing
     M, S, W, C = ModelArgs(), StateArgs(), WorldArgs(), ScratchArgs()
 
     @ti.kernel
@@ -54,7 +55,7 @@ def make(place_and_build, evaluate, refreshing: bool) -> SplitSubstep:
 
     @ti.kernel
     def build(model: M, state: S, scratch: C):
-        place_and_build(model, state, scratch, True, 0)
+        substep.place_and_build(plan, model, state, scratch, True, 0)
 
     @ti.kernel
     def place(model: M, state: S, scratch: C):
@@ -62,6 +63,6 @@ def make(place_and_build, evaluate, refreshing: bool) -> SplitSubstep:
 
     @ti.kernel
     def forces(model: M, state: S, world: W, scratch: C):
-        evaluate(model, state, world, scratch, True, world.values[DT], 0, 1.0)
+        substep.step(plan, model, state, world, scratch, True, world.values[DT], 0, 1.0)
 
     return SplitSubstep(motion, refresh_lists if refreshing else None, build, place, forces)

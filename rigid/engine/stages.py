@@ -1,17 +1,8 @@
-"""The stages of a substep, for one body or many (Warp's ``eval_*_forces``, Brax's pipeline).
+"""The stages' building blocks that are not a loop of their own (substep.py runs the stages in
+order, force_loop.py is stage 3b's loop): placing the particles (stage 1), the planes a block
+may reach, a body's wrench from its blocks' shares (stage 4), going to sleep at rest, and the
+frame's contact energy.
 
-  1. place_particles   pᵢ = x + R r0ᵢ, vᵢ = v + ω × R r0ᵢ for every particle slot,
-  2. neighbour lists  rebuilt from a grid when two particles may have closed by the skin
-                       (neighbours.py), and 3a. pair_stage: each particle's force and couple
-                       from other bodies' particles (contact.py); 1-3a only when bodies
-                       collide, in pair_stages.py
-  3b. block_forces     per block: fᵢ = TODO 2 (m g) + the static planes in reach + the pair
-                       force, then the block's share of F = Σ TODO 3 (fᵢ) and
-                       τ = Σ TODO 4 (pᵢ, x, R, r0ᵢ, fᵢ) + the pairs' couples, + the external
-                       forces (forces.add_external: drag on its particles, and the body's
-                       forces at points, the grab and springs, with its first block)
-  4. body_wrench       per body: F, τ = Σ of its blocks' shares, in block order;
-                       then the scheme's update (schemes.py: TODO 5, 6, 7)
 Every stage is a ``ti.func`` whose arguments say what it reads and writes: ``u`` the TODO
 units, ``model`` ModelArgs (read), ``state`` StateArgs, ``world`` WorldArgs (read),
 ``scratch`` ScratchArgs. A stage's loops run in parallel where it sits at a kernel's top
@@ -20,7 +11,7 @@ way, so runs are bit-reproducible. A lone body is B = 1: no grid, no pairs.
 """
 import taichi as ti
 
-from . import forces, pair_stages, schedule, schemes
+from . import pair_stages, schedule, schemes
 from .contact import plane_force
 from .matvec import body_offset, matvec
 from .state import DAMPING, FRICTION, GX, NUM_PLANES, STIFFNESS
@@ -109,100 +100,6 @@ def planes_in_reach(model: ti.template(), state: ti.template(), world: ti.templa
         if not (gap > ti.abs(n).dot(extent)):  # written so that a NaN is near
             near |= 1 << j
     return near
-
-
-FAR = 1e30  # offset of a stand-in plane: behind it lie only coordinates below -1e30 (finite in f32)
-NEAR_SLOTS = 3  # planes a block's loop tests with its slots unrolled (the box: floor, one x, one z wall)
-
-
-@ti.func
-def _block_loop(u: ti.template(), model: ti.template(), world: ti.template(), scratch: ti.template(),
-                start, end, b, x, R, v, omega, plane0, plane1, plane2, pairs: ti.template(),
-                count: ti.template()):
-    """Σ TODO 3 and TODO 4 over slots start..end−1 of body b, each particle's force being
-    gravity (TODO 2) + the planes (the first ``count`` of plane0..plane2, or every plane of the
-    world if count is -1) + its pair force and couple (scratch, if ``pairs``)."""
-    F = ti.Vector.zero(float, 3)
-    tau = ti.Vector.zero(float, 3)
-    # Loaded once, so that LLVM vectorises the loop over the particles.
-    m, g = model.particle_mass[b], gravity(world)
-    stiffness, kd, mu = contact_constants(world)
-    radius = model.particle_radius[b]
-    for i in range(start, end):
-        r0 = ti.Vector([model.r0_x[i], model.r0_y[i], model.r0_z[i]])
-        r = matvec(R, r0)
-        p = x + r
-        f = u.gravity_force(m, g)
-        if ti.static(count > 0):
-            pv = v + omega.cross(r)
-            fc, _e = plane_force(p, pv, radius, plane0, stiffness, kd, mu)
-            f += fc
-            if ti.static(count > 1):
-                fc1, _e1 = plane_force(p, pv, radius, plane1, stiffness, kd, mu)
-                fc2, _e2 = plane_force(p, pv, radius, plane2, stiffness, kd, mu)
-                f += fc1
-                f += fc2
-        elif ti.static(count < 0):
-            pv = v + omega.cross(r)
-            for j in range(num_planes(world)):
-                fc, _e = plane_force(p, pv, radius, world.planes[j], stiffness, kd, mu)
-                f += fc
-        couple = ti.Vector.zero(float, 3)
-        if ti.static(pairs):
-            f += scratch.particle_f[i]
-            couple = scratch.particle_couple[i]
-        F += u.total_force_term(f)
-        tau += u.torque_term(p, x, R, r0, f) + couple
-    return F, tau
-
-
-@ti.func
-def _block_share(u: ti.template(), model: ti.template(), state: ti.template(), world: ti.template(),
-                 scratch: ti.template(), k, pairs: ti.template(), compact: ti.template()):
-    b = model.block_body[k]
-    start = model.block_start[k]
-    end = start + model.block_count[k]
-    x, R, v, omega = state.x[b], state.R[b], state.v[b], state.omega[b]
-    near = planes_in_reach(model, state, world, k)
-    F = ti.Vector.zero(float, 3)
-    tau = ti.Vector.zero(float, 3)
-    # The planes in reach, in index order, in the slots; the other slots hold a plane no particle
-    # is behind (its force is exactly zero, so f is the same as with the near planes alone).
-    # Three plain vectors, not a matrix indexed at run time (which LLVM keeps in memory).
-    plane0 = ti.Vector([0.0, 1.0, 0.0, -FAR])
-    plane1 = ti.Vector([0.0, 1.0, 0.0, -FAR])
-    plane2 = ti.Vector([0.0, 1.0, 0.0, -FAR])
-    used = 0
-    for j in range(num_planes(world)):
-        if near & (1 << j):
-            if used == 0:
-                plane0 = world.planes[j]
-            elif used == 1:
-                plane1 = world.planes[j]
-            elif used == 2:
-                plane2 = world.planes[j]
-            used += 1
-    if ti.static(compact):  # one loop for every case (kernels.compact_block_loops)
-        F, tau = _block_loop(u, model, world, scratch, start, end, b, x, R, v, omega, plane0, plane1, plane2, pairs, -1)
-    elif used == 0:
-        F, tau = _block_loop(u, model, world, scratch, start, end, b, x, R, v, omega, plane0, plane1, plane2, pairs, 0)
-    elif used == 1:  # e.g. resting on the floor
-        F, tau = _block_loop(u, model, world, scratch, start, end, b, x, R, v, omega, plane0, plane1, plane2, pairs, 1)
-    elif used <= NEAR_SLOTS:
-        F, tau = _block_loop(u, model, world, scratch, start, end, b, x, R, v, omega, plane0, plane1, plane2, pairs, NEAR_SLOTS)
-    else:
-        F, tau = _block_loop(u, model, world, scratch, start, end, b, x, R, v, omega, plane0, plane1, plane2, pairs, -1)
-    F, tau = forces.add_external(u, model, state, world, b, k, F, tau)
-    scratch.block_wrench[k] = wrench(F, tau)
-
-
-@ti.func
-def block_forces(u: ti.template(), model: ti.template(), state: ti.template(), world: ti.template(),
-                 scratch: ti.template(), k, pairs: ti.template(), compact: ti.template()):
-    """Stage 3b for block k: its particles' forces (TODO 2 + planes + pairs if ``pairs``) and the
-    block's share of F (TODO 3) and τ (TODO 4), summed in slot order into scratch.block_wrench.
-    ``compact``: one particle loop that tests every plane (kernels.compact_block_loops)."""
-    _block_share(u, model, state, world, scratch, k, pairs, compact)
 
 
 @ti.func

@@ -164,7 +164,7 @@ def _running_min(values):
 PIPELINE = (
     "A scene's `[[body]]` tables put several bodies in the box, and bodies collide through their "
     "particles (Harada, GPU Gems 3, ch. 29). One substep is a pipeline of stages "
-    "(`rigid/engine/stages.py`, the same for one body, without the grid and pairs): (1) every particle's position and velocity from its body's x, R, v "
+    "(`rigid/engine/substep.py`, the same for one body, without the grid and pairs): (1) every particle's position and velocity from its body's x, R, v "
     "and ω; (2) a uniform grid of cells one particle diameter wide, built by counting sort (count the "
     "particles per cell, prefix sum, scatter; no cap per cell); (3) per particle, gravity (TODO 2), "
     "the walls on its sphere, and for every overlapping particle of another body in the 27 cells "

@@ -1,0 +1,46 @@
+"""The one walk over a particle's contact candidates, which every pair consumer calls.
+
+A candidate of slot i (of body a) is another body's particle that i's neighbour list holds
+(neighbours.py: within reach + skin when the lists were built). Where i's list overflowed (more
+than K candidates: it kept only its count), the same candidates come, in the same order, from
+the build's grid around i's build position (grid.py). Consumers never see which: they pass a
+visitor and a context,
+
+    each_candidate(state, scratch, i, a, visit, ctx)   calls   visit(ctx, j)   for each candidate j,
+
+in ascending slot order (lists are sorted by slot; the grid's cells are sorted by slot too, so
+an overflowed particle's order is the grid's fixed cell order). ``visit`` is a ``ti.func`` and
+``ctx`` a namedtuple of what it reads and the sums it adds to: Taichi inlines both (template
+arguments), so the walk costs what a hand-written loop costs, and ``ctx.f += ...`` in the
+visitor adds to the caller's local variable f.
+"""
+from collections import namedtuple
+
+import taichi as ti
+
+from . import grid, neighbours
+
+
+_Overflow = namedtuple("_Overflow", "scratch body visit ctx")
+
+
+@ti.func
+def _other_body(c: ti.template(), slot):
+    """each_candidate's overflow walk: a slot of the sorted grid is a candidate unless it is of
+    the particle's own body."""
+    if c.scratch.sorted_body[slot] != c.body:
+        ti.static(c.visit)(c.ctx, c.scratch.sorted_particle[slot])
+
+
+@ti.func
+def each_candidate(state: ti.template(), scratch: ti.template(), i, a, visit: ti.template(), ctx: ti.template()):
+    """visit(ctx, j) for each candidate j of slot i (of body a): its neighbour list in order, or,
+    where the list overflowed, the build's grid around i's build position."""
+    stride = neighbours.list_stride(scratch, state)
+    n = scratch.nbr_count[i]
+    if n <= stride:
+        for t in range(n):
+            visit(ctx, scratch.nbr_list[i * stride + t])
+    else:
+        grid.each_slot_around(scratch, grid.cell_coords(scratch, scratch.build_x[i]), _other_body,
+                         ti.static(_Overflow(scratch, a, visit, ctx)))
