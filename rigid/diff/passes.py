@@ -19,6 +19,8 @@ from . import kernels as kernel_module
 from .tape import Tape
 
 CHECKPOINT_FRAMES = 16  # K: frames per segment (256 substeps at the default Δt)
+SERIAL_PARTICLES = 512  # up to this many (padded) particles a substep's loops run on one thread
+PLANES_AT_LEAST = 5  # the box's floor and four walls
 _TAPES: dict = {}
 
 
@@ -33,14 +35,19 @@ class Pass:
         self.segment = max(1, min(checkpoint_frames, frames)) * self.substeps  # substeps per segment
         self.total = frames * self.substeps
         self.num_segments = -(-self.total // self.segment)
-        B, N, P = problem.num_bodies, problem.num_particles, max(len(problem.planes), 1)
-        # Fields sized up to powers of two and kept per process, so that scenes of similar size and
-        # every call of a fit reuse one tape and its compiled kernels.
-        key = (id(units), problem.scheme, problem.materials, P, self.segment + 1, _power_of_two(B, 1),
-               _power_of_two(N, 8), _power_of_two(frames + 1, 64), len(problem.table))
+        B, N = problem.num_bodies, problem.num_particles
+        # Fields sized up (a segment of K frames however short the run, particles and frames to
+        # powers of two, at least the box's 5 planes: the extra ones are stand-ins no particle
+        # touches) and kept per process, so that scenes of one kind (law, scheme) and every call
+        # of a fit reuse one tape and its compiled kernels.
+        P = max(len(problem.planes), PLANES_AT_LEAST)
+        steps = max(1, checkpoint_frames) * self.substeps + 1
+        key = (id(units), problem.scheme, problem.materials, P, steps, _power_of_two(B, 1),
+               _power_of_two(N, 64), _power_of_two(frames + 1, 64), len(problem.table))
         if key not in _TAPES:
-            tape = Tape(self.segment + 1, key[5], key[6], P, key[7] - 1, len(problem.table), problem.materials)
-            _TAPES[key] = (tape, kernel_module.build(tape, units, problem.scheme, problem.materials, P))
+            tape = Tape(steps, key[5], key[6], P, key[7] - 1, len(problem.table), problem.materials)
+            serial = key[6] <= SERIAL_PARTICLES
+            _TAPES[key] = (tape, kernel_module.build(tape, units, problem.scheme, problem.materials, P, serial))
         self.tape, self.k = _TAPES[key]
         self.tape.load(problem)
         self.checkpoints: list = []
@@ -62,11 +69,7 @@ class Pass:
         for s in range(self._length(g)):
             if write_rows and (s > 0 or g == 0) and self._frame_at(g, s) is not None:
                 k.rows(s, self._frame_at(g, s), B)
-            if p.materials:
-                k.count(s, N)
-            k.contacts(s, N, dt)
-            k.forces(s, N)
-            k.update(s, B, dt)
+            k.substep(s, N, B, dt)
         end = self._length(g)
         if write_rows:
             k.rows(end, self._frame_at(g, end), B)
@@ -142,9 +145,7 @@ class Pass:
                 if frame is not None and (s > 0 or g == 0):
                     k.rows.grad(s, frame, B)
                 if s > 0:
-                    k.update.grad(s - 1, B, dt)
-                    k.forces.grad(s - 1, N)
-                    k.contacts.grad(s - 1, N, dt)
+                    k.substep.grad(s - 1, N, B, dt)
             k.save_grad(0, B, N)
             self._carried = [f.to_numpy() for f in self._checkpoint_fields()]
         k.init.grad(B)
