@@ -70,6 +70,7 @@ def main() -> None:
     cot["x"][:, 0, 0] = w
     g = rigid.gradient(free, frames, cot, ["initial_velocity"])["initial_velocity"]
     out["free_flight"] = dict(grad=g.tolist(), expected=float((w * np.arange(frames + 1) * 16 * 1e-3).sum()))
+    seconds["free"] = time.perf_counter() - start
 
     # A sphere bouncing once (materials): v0 and e (e between two nodes of the damping table, where
     # c(e) is smooth; at a node it has a kink and the gradient is one side's slope).
@@ -80,6 +81,7 @@ def main() -> None:
     out["bounce"] = dict(v0=g["initial_velocity"].tolist(), e=float(g["restitution"]),
                          fd_v0=[central(scene, frames, cot, "initial_velocity", c) for c in range(3)],
                          fd_e=central(scene, frames, cot, "restitution"))
+    seconds["bounce"] = time.perf_counter() - start
 
     # A box sliding on the floor (sticking friction, μ) and one resting on it (the plain law, k).
     box = dict(mesh="box.obj", scale=0.4, position=(0.0, -0.799, 0.0), initial_velocity=(1.5, 0.0, 0.0))
@@ -121,6 +123,7 @@ def main() -> None:
     for name, noise in (("fit", 0.0), ("fit_noise", 0.002)):
         data = dict(observed, x=observed["x"] + np.random.default_rng(7).normal(0.0, noise, observed["x"].shape))
         fitted, info = rigid.fit(guess, data, ["restitution", "initial_velocity"], steps=60)
+        seconds[name] = time.perf_counter() - start
         out[name] = dict(e=fitted.restitution, v0=list(fitted.initial_velocity), loss=info["loss"],
                          evaluations=info["evaluations"])
     seconds["total"] = time.perf_counter() - start
