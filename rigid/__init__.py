@@ -3,7 +3,7 @@
 The engine never imports the assignment file: it receives the 7 TODO units as
 a parameter (see ``rigid.engine.units``). The Python API (rigid/api.py): ``rigid.init``,
 ``rigid.scene``, ``rigid.load_scene``, ``rigid.Simulator``, ``rigid.export``, ``rigid.show``,
-``rigid.sweep``.
+``rigid.sweep``; and, differentiable (rigid/diff), ``rigid.gradient`` and ``rigid.fit``.
 
 Importing ``rigid`` first sets Taichi's environment, so import it before taichi.
 """
@@ -20,6 +20,7 @@ os.environ.setdefault("TI_OFFLINE_CACHE_FILE_PATH", str(Path.home() / ".cache" /
 # The Python API (rigid/api.py), loaded on first use so that ``import rigid`` stays light.
 _API = ("init", "scene", "load_scene", "Simulator", "export", "show", "frames", "sweep", "load_units",
         "default_units", "SimConfig", "ASSETS")
+_DIFF = ("gradient", "fit")  # rigid/diff: gradients through a run, fitting a run to data
 
 
 def __getattr__(name):
@@ -27,8 +28,12 @@ def __getattr__(name):
         from . import api
 
         return getattr(api, name)
+    if name in _DIFF:
+        from . import diff
+
+        return getattr(diff, name)
     raise AttributeError(f"module 'rigid' has no attribute {name!r}")
 
 
 def __dir__():
-    return sorted(list(globals()) + list(_API))
+    return sorted(list(globals()) + list(_API) + list(_DIFF))

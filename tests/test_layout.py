@@ -29,7 +29,8 @@ ALLOWED = {
     "cli": BASE | {"bodies", "engine", "run", "view", "sweeps"},
     "api": BASE | {"bodies", "engine", "run", "view", "sweeps"},  # the Python API: build, step, read, export, show (view, lazily)
     "__main__": {"cli"},
-    "__init__": {"api"},  # loaded on first use of rigid.Simulator etc. (PEP 562)
+    "diff": BASE | {"bodies", "engine"},  # gradients and fitting (rigid.gradient, rigid.fit)
+    "__init__": {"api", "diff"},  # loaded on first use of rigid.Simulator etc. (PEP 562)
 }
 MAX_LINES = 300
 

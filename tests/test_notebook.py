@@ -46,3 +46,38 @@ def test_the_quickstart_notebook_runs_and_shows_a_video_a_plot_and_frames():
     assert lin + lift - 1e-3 < start < lin + lift + spin_max
     assert end < start  # the floor's damping takes energy
     assert "(11, 180, 320, 3) uint8" in text
+
+
+FIT_NOTEBOOK = ROOT / "report" / "fit.ipynb"
+
+
+def test_the_fit_notebook_aims_a_spinning_throw_at_a_target_and_recovers_e_and_mu_from_an_npz():
+    nbformat = pytest.importorskip("nbformat", reason="the dev extra installs nbformat, nbclient, ipykernel")
+    nbclient = pytest.importorskip("nbclient")
+    pytest.importorskip("ipykernel")
+    nb = nbformat.read(FIT_NOTEBOOK, as_version=4)
+    assert not any(cell.get("outputs") for cell in nb.cells if cell.cell_type == "code")  # stored without outputs
+    nbclient.NotebookClient(nb, timeout=300, kernel_name="python3",
+                            resources={"metadata": {"path": str(ROOT)}}).execute()
+    outputs = [o for cell in nb.cells if cell.cell_type == "code" for o in cell.outputs]
+    assert not [o for o in outputs if o.output_type == "error"]
+    text = "".join(o.get("text", "") for o in outputs if o.output_type == "stream")
+
+    # The aimed throw comes down over the target (the notebook prints the engine's landing point).
+    aim = re.search(r"lands at \((-?[\d.]+), (-?[\d.]+)\), target \((-?[\d.]+), (-?[\d.]+)\): miss ([\d.]+) mm "
+                    r"after (\d+) evaluations \(first guess missed by (\d+) mm\)", text)
+    assert aim, text
+    x, z, tx, tz, miss, evaluations, first_miss = (float(v) for v in aim.groups())
+    assert np.hypot(x - tx, z - tz) < 1e-3 and miss < 1.0  # within a millimetre
+    assert first_miss > 100 and evaluations <= 30  # the guess was well off; the gradient got there
+    spin = re.search(r"spin = \((-?[\d.]+), (-?[\d.]+), (-?[\d.]+)\)", text)
+    assert spin and any(abs(float(w) - s) > 0.01 for w, s in zip(spin.groups(), (0.0, 0.0, 2.0)))  # spin moved too
+
+    # e and μ recovered from the NPZ recording (1 mm noise on x).
+    fit = re.search(r"fitted e = ([\d.]+) \(recorded with 0.55\), mu = ([\d.]+) \(0.4\); loss ([\d.e+-]+) -> "
+                    r"([\d.e+-]+) in (\d+) evaluations", text)
+    assert fit, text
+    e, mu, loss0, loss1, _n = (float(v) for v in fit.groups())
+    assert e == pytest.approx(0.55, rel=0.02) and mu == pytest.approx(0.4, rel=0.05)
+    assert loss1 < 1e-2 * loss0
+    assert sum("image/png" in o.get("data", {}) for o in outputs) == 2  # the aim's and the fit's plots

@@ -1,0 +1,210 @@
+"""The kernels of the differentiable pass: the engine's substep, written time-indexed.
+
+The physics is the engine's: the student's 7 TODO units (``u``), the contact law of
+rigid.engine.contact (``plane_force``, or ``plane_force_sticking`` with the damper of
+rigid.engine.materials.plane_damping when the scene sets materials), drag as
+rigid.engine.forces.particle_force, the updates of rigid.engine.schemes written on the
+step axis. What differs is only the schedule, so that Taichi can run each kernel backward:
+
+- ``count``  particles touching a plane at step s, per body (the m_eff = M / n of materials.py);
+- ``contacts`` per (particle, plane): the plane's force fc[s] and the sticking spring's step s + 1;
+- ``forces`` per particle: f = TODO 2 + Σ fc in plane order, into F[s], T[s] through TODO 3
+  and 4 (atomic sums), then drag;
+- ``update`` per body: explicit (TODO 5, 6, 7) or symplectic Euler from step s to s + 1;
+- ``rows``   the row of step s (x, q, v = P/M, ω, P, L) at frame f.
+A contact is a thread of its own (the materials' damper is a table lookup whose adjoint is
+long: unrolled over the planes in one particle's thread it took over a minute to compile), and
+the per-particle sum over planes is unrolled (their count is a compile-time constant), so no
+running sum lives in a dynamic loop (Taichi would need an adstack for it). The engine skips planes
+out of a block's reach; a skipped plane's force is exactly zero, so summing every plane gives
+the same force.
+"""
+
+import taichi as ti
+
+from ..engine.contact import plane_force, plane_force_sticking
+from ..engine.materials import pair_mu, pair_restitution, plane_damping, sticking_damping
+from ..engine.matvec import matvec
+from ..engine.rotation import quaternion_to_matrix
+
+
+def build(tape, units, scheme: str, materials: bool, num_planes: int, serial: bool = True):
+    """The pass's kernels (a namespace) over ``tape``'s fields for these TODO units and scheme;
+    ``serial``: run the substep's loops on the launching thread (at tens of particles handing a
+    loop to the thread pool costs more than the loop: 20 frames' forward 18 -> 12 ms, backward
+    62 -> 42 ms on 2 cores)."""
+    u, t = units, tape
+    P = num_planes
+
+    @ti.func
+    def body_motion(s, b):
+        """(x, R, v, ω) of body b at step s."""
+        return t.x[s, b], quaternion_to_matrix(t.q[s, b]), t.P[s, b] / t.M[b], t.w[s, b]
+
+    @ti.kernel
+    def inertia(n: ti.i32):
+        for i in range(n):
+            b = t.particle_body[i]
+            t.I0[b] += u.particle_inertia(t.m[b], t.r0[i])
+
+    @ti.kernel
+    def invert(nb: ti.i32):
+        for b in range(nb):
+            t.I0inv[b] = t.I0[b].inverse()
+            t.M[b] = t.m[b] * t.body_count[b]
+
+    @ti.kernel
+    def init(nb: ti.i32):
+        # rigid.engine.schemes.init_body and store: L = R I0 Rᵀ ω, P = M v, ω from TODO 7.
+        for b in range(nb):
+            q = t.q0[b]
+            R = quaternion_to_matrix(q)
+            L = matvec(R, matvec(t.I0[b], matvec(R.transpose(), t.w0[b])))
+            L_same, _inv, omega = u.update_angular(L, ti.Vector.zero(float, 3), R, t.I0inv[b], 0.0)
+            t.x[0, b], t.q[0, b], t.P[0, b] = t.x0[b], q, t.M[b] * t.v0[b]
+            t.L[0, b], t.w[0, b] = L_same, omega
+
+    @ti.func
+    def count(s, i):
+        b = t.particle_body[i]
+        x, R, _v, _w = body_motion(s, b)
+        p = x + matvec(R, t.r0[i])
+        touching = 0
+        for j in ti.static(range(P)):
+            plane = t.plane[j]
+            if plane[3] + t.radius[b] - ti.Vector([plane[0], plane[1], plane[2]]).dot(p) > 0:
+                touching += 1
+        t.count[s, b] += touching
+
+    @ti.func
+    def contacts(s, i, j, dt):
+        # One (particle, plane) a thread: the plane's force on the particle's sphere, into fc[s].
+        b = t.particle_body[i]
+        x, R, v, omega = body_motion(s, b)
+        r = matvec(R, t.r0[i])
+        p = x + r
+        pv = v + omega.cross(r)
+        g, k, radius, plane = t.g[None], t.k[None], t.radius[b], t.plane[j]
+        if ti.static(materials):  # rigid.engine.material_stages.block_forces
+            m_eff = t.M[b] / ti.max(t.count[s, b], 1)
+            normal = ti.Vector([plane[0], plane[1], plane[2]])
+            slip = t.slip[s, i, j]
+            c, memory = plane_damping(pair_restitution(t.e_b[b], t.e_p[j]), k, m_eff, dt, -g.dot(normal),
+                                      normal.dot(slip), normal.dot(pv), plane[3] + radius - normal.dot(p),
+                                      t.table, 0, t.c_world[None], True)
+            mu = pair_mu(t.mu_b[b], t.mu_p[j], t.mu_world[None])
+            fc, new_slip, touching = plane_force_sticking(p, pv, radius, plane, k, c,
+                                                          sticking_damping(k, m_eff, dt), mu, slip, dt)
+            t.fc[s, i, j] = fc
+            t.slip[s + 1, i, j] = new_slip + (memory * touching) * normal
+        else:  # rigid.engine.stages._block_loop
+            fc, _e = plane_force(p, pv, radius, plane, k, t.c_world[None], t.mu_world[None])
+            t.fc[s, i, j] = fc
+
+    @ti.func
+    def forces(s, i):
+        # Per particle: f = TODO 2 + the planes' forces in plane order, then TODO 3 and 4, then drag.
+        b = t.particle_body[i]
+        x, R, v, omega = body_motion(s, b)
+        r0 = t.r0[i]
+        r = matvec(R, r0)
+        p = x + r
+        f = u.gravity_force(t.m[b], t.g[None])
+        for j in ti.static(range(P)):
+            f += t.fc[s, i, j]
+        t.F[s, b] += u.total_force_term(f)
+        t.T[s, b] += u.torque_term(p, x, R, r0, f)
+        drag = -t.drag[b] * (v + omega.cross(r))  # rigid.engine.forces.particle_force, summed apart as add_external does
+        t.F[s, b] += u.total_force_term(drag)
+        t.T[s, b] += u.torque_term(p, x, R, r0, drag)
+
+    @ti.func
+    def update(s, b, dt):
+        x, q, Pm, L, omega = t.x[s, b], t.q[s, b], t.P[s, b], t.L[s, b], t.w[s, b]
+        F, tau, M, inv0 = t.F[s, b], t.T[s, b], t.M[b], t.I0inv[b]
+        if ti.static(scheme == "symplectic"):  # rigid.engine.schemes.symplectic_update
+            zero = ti.Vector.zero(float, 3)
+            _x, P_new = u.update_linear(x, Pm, F, M, dt)
+            L_new, _i, omega_mid = u.update_angular(L, tau, quaternion_to_matrix(q), inv0, dt)
+            x_new, _P = u.update_linear(x, P_new, zero, M, dt)
+            q_new = u.update_orientation(q, omega_mid, dt)
+            L_same, _i2, omega_new = u.update_angular(L_new, zero, quaternion_to_matrix(q_new), inv0, 0.0)
+            t.x[s + 1, b], t.q[s + 1, b], t.P[s + 1, b] = x_new, q_new, P_new
+            t.L[s + 1, b], t.w[s + 1, b] = L_same, omega_new
+        else:  # rigid.engine.schemes.euler_update
+            x_new, P_new = u.update_linear(x, Pm, F, M, dt)
+            q_new = u.update_orientation(q, omega, dt)
+            L_new, _inv, omega_new = u.update_angular(L, tau, quaternion_to_matrix(q_new), inv0, dt)
+            t.x[s + 1, b], t.q[s + 1, b], t.P[s + 1, b] = x_new, q_new, P_new
+            t.L[s + 1, b], t.w[s + 1, b] = L_new, omega_new
+
+    @ti.kernel
+    def substep(s: ti.i32, n: ti.i32, nb: ti.i32, dt: float):
+        # The four stages as four top-level loops of one kernel: one launch a substep (and one for
+        # its adjoint, which runs the loops' adjoints in reverse order). Each loop writes only step
+        # s + 1 or the atomic sums of step s that a later loop reads, never what it read itself.
+        # (Taichi's reverse mode takes a kernel of loops only: the stages are each loop's body.)
+        if ti.static(materials):
+            ti.loop_config(serialize=serial)
+            for i in range(n):
+                count(s, i)
+        ti.loop_config(serialize=serial)
+        for i, j in ti.ndrange(n, P):
+            contacts(s, i, j, dt)
+        ti.loop_config(serialize=serial)
+        for i in range(n):
+            forces(s, i)
+        ti.loop_config(serialize=serial)
+        for b in range(nb):
+            update(s, b, dt)
+
+    @ti.kernel
+    def rows(s: ti.i32, frame: ti.i32, nb: ti.i32):
+        for b in range(nb):
+            t.r_x[frame, b], t.r_q[frame, b], t.r_P[frame, b] = t.x[s, b], t.q[s, b], t.P[s, b]
+            t.r_L[frame, b], t.r_w[frame, b], t.r_v[frame, b] = t.L[s, b], t.w[s, b], t.P[s, b] / t.M[b]
+
+    @ti.kernel
+    def save(s: ti.i32, nb: ti.i32, n: ti.i32):
+        """Step s into the checkpoint fields (c_*)."""
+        for b in range(nb):
+            t.c_x[b], t.c_q[b], t.c_P[b], t.c_L[b], t.c_w[b] = t.x[s, b], t.q[s, b], t.P[s, b], t.L[s, b], t.w[s, b]
+        if ti.static(materials):
+            for i, j in ti.ndrange(n, P):
+                t.c_slip[i, j] = t.slip[s, i, j]
+
+    @ti.kernel
+    def restore(s: ti.i32, nb: ti.i32, n: ti.i32):
+        for b in range(nb):
+            t.x[s, b], t.q[s, b], t.P[s, b], t.L[s, b], t.w[s, b] = t.c_x[b], t.c_q[b], t.c_P[b], t.c_L[b], t.c_w[b]
+        if ti.static(materials):
+            for i, j in ti.ndrange(n, P):
+                t.slip[s, i, j] = t.c_slip[i, j]
+
+    @ti.kernel
+    def save_grad(s: ti.i32, nb: ti.i32, n: ti.i32):
+        """The adjoint of step s into the checkpoint fields (carried to the previous segment)."""
+        for b in range(nb):
+            t.c_x[b], t.c_q[b], t.c_P[b] = t.x.grad[s, b], t.q.grad[s, b], t.P.grad[s, b]
+            t.c_L[b], t.c_w[b] = t.L.grad[s, b], t.w.grad[s, b]
+        if ti.static(materials):
+            for i, j in ti.ndrange(n, P):
+                t.c_slip[i, j] = t.slip.grad[s, i, j]
+
+    @ti.kernel
+    def restore_grad(s: ti.i32, nb: ti.i32, n: ti.i32):
+        for b in range(nb):
+            t.x.grad[s, b], t.q.grad[s, b], t.P.grad[s, b] = t.c_x[b], t.c_q[b], t.c_P[b]
+            t.L.grad[s, b], t.w.grad[s, b] = t.c_L[b], t.c_w[b]
+        if ti.static(materials):
+            for i, j in ti.ndrange(n, P):
+                t.slip.grad[s, i, j] = t.c_slip[i, j]
+
+    class Kernels:
+        pass
+
+    k = Kernels()
+    for name, fn in dict(inertia=inertia, invert=invert, init=init, substep=substep, rows=rows, save=save, restore=restore, save_grad=save_grad,
+                         restore_grad=restore_grad).items():
+        setattr(k, name, fn)
+    return k

@@ -1,0 +1,154 @@
+"""The forward and backward passes, segment by segment, with checkpoints.
+
+The run of ``frames`` frames is cut into segments of K frames (``checkpoint_frames``). The
+forward pass keeps each segment's starting state (a checkpoint: one step of state, on the
+host) and the rows; the backward pass walks the segments from the last: it restores the
+segment's checkpoint, runs the segment forward again (the last one is still on the tape),
+then runs each kernel's adjoint (Taichi's ``kernel.grad``) in reverse order, and carries the
+adjoint of the segment's first state into the previous one. Memory is one segment of state
+(rigid.diff.tape) whatever the horizon; the cost is one more forward run of every segment but
+the last.
+"""
+from __future__ import annotations
+
+import numpy as np
+import taichi as ti
+
+from ..errors import UserError
+from . import kernels as kernel_module
+from .tape import Tape
+
+CHECKPOINT_FRAMES = 16  # K: frames per segment (256 substeps at the default Δt)
+SERIAL_PARTICLES = 512  # up to this many (padded) particles a substep's loops run on one thread
+PLANES_AT_LEAST = 5  # the box's floor and four walls
+_TAPES: dict = {}
+
+
+def _power_of_two(n: int, least: int) -> int:
+    return max(least, 1 << (max(n, 1) - 1).bit_length())
+
+
+class Pass:
+    def __init__(self, problem, units, frames: int, checkpoint_frames: int = CHECKPOINT_FRAMES):
+        self.problem, self.units, self.frames = problem, units, frames
+        self.substeps = problem.substeps
+        self.segment = max(1, min(checkpoint_frames, frames)) * self.substeps  # substeps per segment
+        self.total = frames * self.substeps
+        self.num_segments = -(-self.total // self.segment)
+        B, N = problem.num_bodies, problem.num_particles
+        # Fields sized up (a segment of K frames however short the run, particles and frames to
+        # powers of two, at least the box's 5 planes: the extra ones are stand-ins no particle
+        # touches) and kept per process, so that scenes of one kind (law, scheme) and every call
+        # of a fit reuse one tape and its compiled kernels.
+        P = max(len(problem.planes), PLANES_AT_LEAST)
+        steps = max(1, checkpoint_frames) * self.substeps + 1
+        key = (id(units), problem.scheme, problem.materials, P, steps, _power_of_two(B, 1),
+               _power_of_two(N, 64), _power_of_two(frames + 1, 64), len(problem.table))
+        if key not in _TAPES:
+            tape = Tape(steps, key[5], key[6], P, key[7] - 1, len(problem.table), problem.materials)
+            serial = key[6] <= SERIAL_PARTICLES
+            _TAPES[key] = (tape, kernel_module.build(tape, units, problem.scheme, problem.materials, P, serial))
+        self.tape, self.k = _TAPES[key]
+        self.tape.load(problem)
+        self.checkpoints: list = []
+
+    def _length(self, g: int) -> int:
+        return min(self.segment, self.total - g * self.segment)
+
+    def _frame_at(self, g: int, s: int):
+        """The frame whose row is step s of segment g, or None."""
+        step = g * self.segment + s
+        return step // self.substeps if step % self.substeps == 0 else None
+
+    def _run_segment(self, g: int, write_rows: bool) -> None:
+        t, k, p = self.tape, self.k, self.problem
+        B, N, dt = p.num_bodies, p.num_particles, p.dt
+        t.F.fill(0)
+        t.T.fill(0)
+        t.count.fill(0)
+        for s in range(self._length(g)):
+            if write_rows and (s > 0 or g == 0) and self._frame_at(g, s) is not None:
+                k.rows(s, self._frame_at(g, s), B)
+            k.substep(s, N, B, dt)
+        end = self._length(g)
+        if write_rows:
+            k.rows(end, self._frame_at(g, end), B)
+        if B > 1:
+            self._check_apart(g)
+
+    def _check_apart(self, g: int) -> None:
+        """Refuse a run where two bodies come within reach of each other (their bounding spheres,
+        particle radii included, overlap at some step): pair contact is not differentiated."""
+        p = self.problem
+        x = self.tape.x.to_numpy()[:self._length(g) + 1, :p.num_bodies]
+        reach = p.reach + p.radius
+        for a in range(p.num_bodies):
+            for b in range(a + 1, p.num_bodies):
+                gap = np.linalg.norm(x[:, a] - x[:, b], axis=1) - reach[a] - reach[b]
+                if np.any(gap < 0):
+                    frame = (g * self.segment + int(np.argmax(gap < 0))) // self.substeps
+                    raise UserError(f"bodies {a} and {b} come within reach of each other near frame {frame}: "
+                                    f"contact between bodies is not differentiated")
+
+    def forward(self) -> dict:
+        """Run the scene; returns the rows (as rigid.Simulator.advance, float64)."""
+        t, k, p = self.tape, self.k, self.problem
+        B, N = p.num_bodies, p.num_particles
+        t.I0.fill(0)
+        t.slip.fill(0)
+        k.inertia(N)
+        k.invert(B)
+        k.init(B)
+        self.checkpoints = []
+        for g in range(self.num_segments):
+            if g > 0:
+                k.save(self._length(g - 1), B, N)
+                k.restore(0, B, N)
+            k.save(0, B, N)
+            self.checkpoints.append([f.to_numpy() for f in self._checkpoint_fields()])
+            self._run_segment(g, True)
+        return self.rows()
+
+    def _checkpoint_fields(self):
+        t = self.tape
+        return (t.c_x, t.c_q, t.c_P, t.c_L, t.c_w, t.c_slip)
+
+    def rows(self) -> dict:
+        B = self.problem.num_bodies
+        return {key: f.to_numpy()[:self.frames + 1, :B].astype(np.float64) for key, f in self.tape.row_fields().items()}
+
+    def backward(self, cotangents: dict) -> dict:
+        """The adjoint of the last forward run for ∂L/∂rows = ``cotangents``: ∂L/∂ each parameter
+        field (rigid.diff.tape.Tape.PARAMETERS), as float64 numpy."""
+        t, k, p = self.tape, self.k, self.problem
+        B, N, dt = p.num_bodies, p.num_particles, p.dt
+        t.clear_parameter_grads()
+        for key, f in t.row_fields().items():
+            seed = np.zeros(f.shape + (f.n,))
+            if key in cotangents:
+                seed[:self.frames + 1, :B] = cotangents[key]
+            f.grad.from_numpy(seed)
+        for g in reversed(range(self.num_segments)):
+            if g < self.num_segments - 1:  # the last segment is still on the tape
+                for field, value in zip(self._checkpoint_fields(), self.checkpoints[g]):
+                    field.from_numpy(value)
+                k.restore(0, B, N)
+                self._run_segment(g, False)
+            t.clear_segment_grads()
+            end = self._length(g)
+            if g < self.num_segments - 1:
+                for field, value in zip(self._checkpoint_fields(), self._carried):
+                    field.from_numpy(value)
+                k.restore_grad(end, B, N)
+            for s in range(end, -1, -1):
+                frame = self._frame_at(g, s)
+                if frame is not None and (s > 0 or g == 0):
+                    k.rows.grad(s, frame, B)
+                if s > 0:
+                    k.substep.grad(s - 1, N, B, dt)
+            k.save_grad(0, B, N)
+            self._carried = [f.to_numpy() for f in self._checkpoint_fields()]
+        k.init.grad(B)
+        k.invert.grad(B)
+        k.inertia.grad(N)
+        return {name: np.array(getattr(t, name).grad.to_numpy(), np.float64) for name in t.PARAMETERS}

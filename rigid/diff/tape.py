@@ -1,0 +1,116 @@
+"""The fields of the differentiable pass: state with a step axis, parameters, rows.
+
+Taichi's reverse mode differentiates a kernel only if it never overwrites what it read (the
+global data access rule), so the state is time-indexed: substep s reads step s and writes step
+s + 1 (as DiffTaichi's rigid_body.py keeps x[t], v[t]). Only one segment of K frames is held
+(``steps`` = K · substeps + 1); the pass keeps a checkpoint at each segment's start on the
+host and runs a segment forward again before its backward (rigid.diff.passes), so memory is
+bounded by K, not by the horizon. Shapes (f the run's float; B bodies, N particles, P planes):
+
+  x, P, L, w    [steps, B] vec3   centre of mass (m), momenta (kg m/s, kg m²/s), ω (rad/s), world
+  q             [steps, B] vec4   orientation, scalar first
+  F, T          [steps, B] vec3   the substep's force and torque about x (atomic sums over particles)
+  fc            [steps, N, P] vec3  each plane's force on each particle
+  slip          [steps, N, P] vec3  each (particle, plane) sticking spring (materials' law only)
+  count         [steps, B] i32    particles touching a plane before the forces (m_eff = M / n)
+  rows          r_x, r_q, r_v, r_w, r_P, r_L  [frames + 1, B]  the rows rigid.Simulator.advance gives
+Parameters (all with gradients): per body m (particle mass), drag, e_b, mu_b, x0, q0, v0, w0;
+per plane e_p, mu_p; k, c_world (velocity_damping_stiffness), mu_world, g. Derived (with
+gradients): M = m n, I0 = Σ TODO 1, I0inv.
+"""
+from __future__ import annotations
+
+import taichi as ti
+
+STATE = ("x", "q", "P", "L", "w")
+
+
+class Tape:
+    def __init__(self, steps: int, bodies: int, particles: int, planes: int, frames: int, table: int,
+                 materials: bool):
+        self.steps, self.bodies, self.particles, self.planes = steps, bodies, particles, planes
+        self.frames, self.materials = frames, materials
+        f = ti.lang.impl.current_cfg().default_fp
+        self.float = f
+        vec = lambda n, shape: ti.Vector.field(n, f, shape=shape, needs_grad=True)
+        sb = (steps, bodies)
+        self.x, self.P, self.L, self.w, self.F, self.T = (vec(3, sb) for _ in range(6))
+        self.q = vec(4, sb)
+        self.slip = vec(3, (steps, particles, planes) if materials else (1, 1, 1))
+        self.fc = vec(3, (steps, particles, planes))
+        self.count = ti.field(ti.i32, shape=sb)
+        scalar = lambda shape: ti.field(f, shape=shape, needs_grad=True)
+        self.m, self.drag, self.e_b, self.mu_b, self.M = (scalar(bodies) for _ in range(5))
+        self.x0, self.v0, self.w0 = (vec(3, bodies) for _ in range(3))
+        self.q0 = vec(4, bodies)
+        self.I0 = ti.Matrix.field(3, 3, f, shape=bodies, needs_grad=True)
+        self.I0inv = ti.Matrix.field(3, 3, f, shape=bodies, needs_grad=True)
+        self.e_p, self.mu_p = scalar(planes), scalar(planes)
+        self.k, self.c_world, self.mu_world = scalar(()), scalar(()), scalar(())
+        self.g = vec(3, ())
+        # Fixed data (no gradients).
+        self.r0 = ti.Vector.field(3, f, shape=particles)
+        self.particle_body = ti.field(ti.i32, shape=particles)
+        self.body_count = ti.field(ti.i32, shape=bodies)
+        self.radius = ti.field(f, shape=bodies)
+        self.plane = ti.Vector.field(4, f, shape=planes)
+        self.table = ti.field(f, shape=table)
+        # Rows of the whole horizon (small: 19 numbers a body a frame).
+        rb = (frames + 1, bodies)
+        self.r_x, self.r_v, self.r_w, self.r_P, self.r_L = (vec(3, rb) for _ in range(5))
+        self.r_q = vec(4, rb)
+        # A checkpoint's state and a carried adjoint, one step's worth.
+        self.c_x, self.c_P, self.c_L, self.c_w = (ti.Vector.field(3, f, shape=bodies) for _ in range(4))
+        self.c_q = ti.Vector.field(4, f, shape=bodies)
+        self.c_slip = ti.Vector.field(3, f, shape=(particles, planes) if materials else (1, 1))
+
+    PARAMETERS = ("m", "drag", "e_b", "mu_b", "x0", "q0", "v0", "w0", "e_p", "mu_p", "k", "c_world", "mu_world", "g")
+    DERIVED = ("M", "I0", "I0inv")
+
+    def segment_fields(self):
+        return [getattr(self, n) for n in STATE] + [self.F, self.T, self.slip, self.fc]
+
+    def row_fields(self):
+        return dict(x=self.r_x, q=self.r_q, v=self.r_v, omega=self.r_w, P=self.r_P, L=self.r_L)
+
+    def load(self, problem) -> None:
+        """The problem's fixed data and parameter values into the fields (padded past B, N, P)."""
+        import numpy as np
+
+        put(self.r0, problem.r0)
+        put(self.particle_body, problem.particle_body.astype(np.int32))
+        put(self.body_count, problem.body_count.astype(np.int32))
+        put(self.radius, problem.radius)
+        planes = np.zeros((self.planes, 4))
+        planes[:] = (0.0, 1.0, 0.0, -1e30)  # stand-ins no particle is behind
+        planes[:len(problem.planes)] = problem.planes
+        self.plane.from_numpy(planes)
+        put(self.table, problem.table)
+        for name, value in problem.values.items():
+            field = getattr(self, name)
+            value = np.asarray(value, np.float64)
+            if field.shape == ():
+                field[None] = value.tolist() if value.ndim else float(value)
+            else:
+                put(field, value, -1.0 if name in ("e_p", "mu_p") else (1.0 if name == "m" else 0.0))
+
+    def clear_parameter_grads(self) -> None:
+        for name in self.PARAMETERS + self.DERIVED:
+            getattr(self, name).grad.fill(0)
+
+    def clear_segment_grads(self) -> None:
+        for f in self.segment_fields():
+            f.grad.fill(0)
+
+
+def put(field, array, fill=0.0) -> None:
+    """``array`` (leading axis: bodies, particles or planes) into the leading part of the 1-D
+    ``field``; the rest is ``fill`` (a quaternion's: the identity)."""
+    import numpy as np
+
+    array = np.asarray(array)
+    full = np.full((field.shape[0],) + array.shape[1:], fill, array.dtype)
+    if array.ndim == 2 and array.shape[1] == 4:
+        full[:] = (1.0, 0.0, 0.0, 0.0)
+    full[:len(array)] = array
+    field.from_numpy(full)

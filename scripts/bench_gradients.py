@@ -1,0 +1,71 @@
+"""Cost of a gradient against its forward run, and the tape's memory (docs/gradients.md,
+report/gradients.md). Prints; asserts nothing.
+
+    .venv/bin/python scripts/bench_gradients.py [--frames 120] [--checkpoint 16]
+"""
+import argparse
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+
+import rigid  # noqa: E402
+from rigid.diff.gradient import prepare  # noqa: E402
+from rigid.diff.passes import Pass  # noqa: E402
+
+SCENE = dict(mesh="sphere.obj", scale=0.3, initial_velocity=(0.8, -1.0, 0.4), initial_angular_velocity=(0, 0, 2.0),
+             restitution=0.6, friction=0.3)
+
+
+def best(fn, repeats=3):
+    fn()  # compiles
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - start)
+    return min(times)
+
+
+def tape_bytes(tape) -> int:
+    total = 0
+    for name in dir(tape):
+        f = getattr(tape, name)
+        if hasattr(f, "shape") and hasattr(f, "dtype") or hasattr(f, "n"):
+            try:
+                count = int(np.prod(f.shape)) * (getattr(f, "n", 1) * getattr(f, "m", 1))
+            except Exception:
+                continue
+            total += count * 8 * (2 if getattr(f, "grad", None) is not None else 1)
+    return total
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--frames", type=int, default=120)
+    parser.add_argument("--checkpoint", type=int, default=16)
+    args = parser.parse_args()
+    rigid.init("cpu", fp64=True)
+    frames = args.frames
+    engine = best(lambda: rigid.Simulator(rigid.scene(**SCENE)).advance(frames))
+    problem, _n, _f, units = prepare(SCENE, frames, ["restitution"])
+    run = Pass(problem, units, frames, args.checkpoint)
+    cot = {"x": np.ones((frames + 1, 1, 3))}
+    forward = best(run.forward)
+    gradient = best(lambda: (run.forward(), run.backward(cot)))
+    print(f"{frames} frames ({frames * problem.substeps} substeps), 1 body of {problem.num_particles} particles, "
+          f"{len(problem.planes)} planes, float64, checkpoint every {args.checkpoint} frames")
+    print(f"engine forward (rigid.Simulator.advance, incl. build): {engine * 1e3:.1f} ms")
+    print(f"differentiable forward:                             {forward * 1e3:.1f} ms")
+    print(f"gradient (forward + backward, segments re-run):     {gradient * 1e3:.1f} ms "
+          f"= {gradient / forward:.2f}x its forward, {gradient / engine:.2f}x the engine's")
+    print(f"tape memory (fields and their adjoints):            {tape_bytes(run.tape) / 2**20:.2f} MiB "
+          f"for {run.segment} substeps a segment; checkpoints on the host: "
+          f"{sum(a.nbytes for c in run.checkpoints for a in c) / 2**10:.1f} KiB")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,135 @@
+"""The float64 runs of tests/test_gradients.py, in one process: prints one JSON object.
+
+Taichi takes one precision per process and the suite runs in float32, so the test starts this
+file and judges its numbers. Every reference is from outside rigid.diff: closed forms, or
+central differences of the forward engine (rigid.Simulator).
+"""
+import json
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+import rigid  # noqa: E402
+from rigid.diff.gradient import rows as diff_rows  # noqa: E402
+
+H = 1e-6  # central differences' step (no contact starts a substep earlier within ±H here)
+
+
+def advance(scene, frames):
+    return rigid.Simulator(rigid.scene(**scene)).advance(frames)
+
+
+def loss(rows, cot):
+    return float(sum((cot[k] * rows[k]).sum() for k in cot))
+
+
+def central(scene, frames, cot, key, component=None, h=H):
+    """dL/d scene[key] (one component) by central differences of rigid.Simulator."""
+    def moved(sign):
+        value = np.array(scene[key], np.float64)
+        if component is None:
+            value = value + sign * h
+        else:
+            value[component] += sign * h
+        return {**scene, key: float(value) if value.ndim == 0 else tuple(value)}
+    return (loss(advance(moved(1), frames), cot) - loss(advance(moved(-1), frames), cot)) / (2 * h)
+
+
+def cotangent(frames, final=(1.0, 1.0, 1.0), every_y=0.1):
+    cot = np.zeros((frames + 1, 1, 3))
+    cot[-1, 0] = final
+    cot[:, 0, 1] += every_y
+    return {"x": cot}
+
+
+BOUNCE = dict(mesh="sphere.obj", scale=0.3, initial_velocity=(0.8, -1.0, 0.4), initial_angular_velocity=(0.0, 0.0, 2.0))
+
+
+def main() -> None:
+    rigid.init("cpu", fp64=True)
+    out, seconds = {}, {}
+    start = time.perf_counter()
+
+    # The same physics: the pass's rows against rigid.Simulator's (materials and plain law, both schemes).
+    for name, scene in (("materials", {**BOUNCE, "restitution": 0.6, "friction": 0.3}), ("plain", BOUNCE),
+                        ("symplectic", {**BOUNCE, "restitution": 0.6, "integrator": "symplectic"})):
+        a, b = advance(scene, 40), diff_rows(scene, 40)
+        out[f"match_{name}"] = {k: float(np.abs(a[k] - b[k]).max()) for k in b}
+    seconds["match"] = time.perf_counter() - start
+
+    # Free flight: x_f = x0 + v0 t_f + (gravity terms), so dL/dv0_x = Σ_f w_f t_f.
+    free = dict(mesh="sphere.obj", scale=0.3, initial_velocity=(1.0, 2.0, 0.5), walls=False)
+    frames = 12
+    w = np.linspace(0.5, 2.0, frames + 1)
+    cot = {"x": np.zeros((frames + 1, 1, 3))}
+    cot["x"][:, 0, 0] = w
+    g = rigid.gradient(free, frames, cot, ["initial_velocity"])["initial_velocity"]
+    out["free_flight"] = dict(grad=g.tolist(), expected=float((w * np.arange(frames + 1) * 16 * 1e-3).sum()))
+    seconds["free"] = time.perf_counter() - start
+
+    # A sphere bouncing once (materials): v0 and e (e between two nodes of the damping table, where
+    # c(e) is smooth; at a node it has a kink and the gradient is one side's slope).
+    frames = 40
+    cot = cotangent(frames)
+    scene = {**BOUNCE, "restitution": 0.6125}
+    g = rigid.gradient(scene, frames, cot, ["initial_velocity", "restitution"])
+    out["bounce"] = dict(v0=g["initial_velocity"].tolist(), e=float(g["restitution"]),
+                         fd_v0=[central(scene, frames, cot, "initial_velocity", c) for c in range(3)],
+                         fd_e=central(scene, frames, cot, "restitution"))
+    seconds["bounce"] = time.perf_counter() - start
+
+    # A box sliding on the floor (sticking friction, μ) and one resting on it (the plain law, k).
+    box = dict(mesh="box.obj", scale=0.4, position=(0.0, -0.799, 0.0), initial_velocity=(1.5, 0.0, 0.0))
+    frames = 20
+    cot = cotangent(frames, final=(1.0, 0.0, 0.0), every_y=0.0)
+    scene = {**box, "friction": 0.3}
+    g = rigid.gradient(scene, frames, cot, ["friction"])
+    out["sliding"] = dict(mu=float(g["friction"]), fd_mu=central(scene, frames, cot, "friction"))
+    scene = {**box, "initial_velocity": (0.0, 0.0, 0.0), "collision_stiffness": 1e4}
+    cot = cotangent(frames, final=(0.0, 1.0, 0.0), every_y=0.0)
+    g = rigid.gradient(scene, frames, cot, ["collision_stiffness"])
+    out["resting"] = dict(k=float(g["collision_stiffness"]),
+                          fd_k=central(scene, frames, cot, "collision_stiffness", h=1e-2))
+    seconds["gradients"] = time.perf_counter() - start
+
+    # The time-of-impact problem: the ball's vertical speed after its bounce against the throw's
+    # vertical speed. Contact events (a particle's first substep inside, the count of particles
+    # sharing the load) fall on substeps, so the map is piecewise smooth with jumps where an event
+    # crosses a substep: the gradient is the slope between jumps (central differences of step H
+    # agree), not the slope of the map over a window holding many jumps (a line fitted to samples).
+    frames = 30
+    cot = {"v": np.zeros((frames + 1, 1, 3))}
+    cot["v"][frames, 0, 1] = 1.0
+    speeds = np.linspace(-1.01, -0.99, 11)
+    for name, extra in (("plain", {}), ("materials", {"restitution": 0.6125})):
+        scene = {**BOUNCE, **extra}
+        g = float(rigid.gradient(scene, frames, cot, ["initial_velocity"])["initial_velocity"][1])
+        local = central(scene, frames, cot, "initial_velocity", 1)
+        samples = [advance({**scene, "initial_velocity": (0.8, float(v), 0.4)}, frames)["v"][frames, 0, 1] for v in speeds]
+        out[f"toi_{name}"] = dict(grad=g, local=local, window_slope=float(np.polyfit(speeds, samples, 1)[0]),
+                                  samples=[float(v) for v in samples])
+    seconds["toi"] = time.perf_counter() - start
+
+    # Fitting: e = 0.6 and v0 from a recording, from e = 0.4 and v0 20 % off; then 2 mm of noise on x.
+    frames = 30
+    true = {**BOUNCE, "restitution": 0.6}
+    observed = advance(true, frames)
+    guess = {**true, "restitution": 0.4, "initial_velocity": tuple(0.8 * np.array(true["initial_velocity"]))}
+    for name, noise in (("fit", 0.0), ("fit_noise", 0.002)):
+        data = dict(observed, x=observed["x"] + np.random.default_rng(7).normal(0.0, noise, observed["x"].shape))
+        fitted, info = rigid.fit(guess, data, ["restitution", "initial_velocity"], steps=60)
+        seconds[name] = time.perf_counter() - start
+        out[name] = dict(e=fitted.restitution, v0=list(fitted.initial_velocity), loss=info["loss"],
+                         evaluations=info["evaluations"])
+    seconds["total"] = time.perf_counter() - start
+    out["seconds"] = seconds
+    print(json.dumps(out))
+
+
+if __name__ == "__main__":
+    main()
