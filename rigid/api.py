@@ -8,6 +8,7 @@
     rigid.export(sim, rows, "drop.npz", "drop.glb")     # the NPZ, glTF and USD exporters
     rigid.show(sim, frames=300)                         # in Jupyter: the run as an inline video
     rigid.sweep("thrown.toml", {"restitution": [0.2, 0.8]}, frames=60, out="sweep1")  # many runs
+    many = rigid.Simulator(scene, worlds=100, vary={"initial_velocity": v0s})  # 100 worlds, one launch
 
 Shapes are per body: ``rows["x"]`` (frames + 1, B, 3); the NPZ of a lone body keeps the
 contract's (F, 3). Kernels compile once per process: a second Simulator costs milliseconds.

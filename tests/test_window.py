@@ -58,11 +58,12 @@ def test_ctrl_c_in_a_terminal_running_xvfb_run_keeps_the_export_and_exits_130(tm
                             preexec_fn=foreground_job_of_the_new_terminal)
     os.close(slave)
     try:
-        seen, deadline = b"", time.time() + 90
-        while b"window open" not in seen and time.time() < deadline and proc.poll() is None:
+        seen, deadline = b"", time.time() + 300  # a bound for a hung run, not a wait: the loop ends on the line
+        while b"running:" not in seen and time.time() < deadline and proc.poll() is None:
             if select.select([proc.stderr], [], [], 0.5)[0]:
                 seen += os.read(proc.stderr.fileno(), 4096)
-        time.sleep(5.0)  # the first frames compile, then some frames (Ctrl-C during the compile ends the run at once)
+        # The window's line once the first frame is simulated and drawn (Ctrl-C while compiling ends at once)
+        assert b"running:" in seen, seen.decode()
         os.write(master, b"\x03")  # the terminal's Ctrl-C
         out, err = proc.communicate(timeout=60)
     finally:

@@ -14,6 +14,7 @@ from pathlib import Path
 
 from ..config import SimConfig, load_scene
 from ..errors import UserError
+from .batch import batchable, batches
 from .folder import SweepFolder
 from .vary import as_varies, plan_runs
 
@@ -59,6 +60,8 @@ def sweep(scene, vary=(), frames: int = None, out=None, seeds: int = 1, workers:
         tasks = [dict(name=r.name, config=r.config, frames=frames, record=record, units=units_file,
                       quick_compile=os.environ.get("RIGID_QUICK_COMPILE") == "1")  # rigid.runtime's, for every worker
                  for r in todo]
+        if batchable(base, [t["config"] for t in tasks], record):  # runs that differ only in their bodies' starts
+            tasks = batches(tasks, workers)
         _run(folder, runs, rows, tasks, frames, workers, cluster, log)
     return [_typed(r, rows.get(r.name) or folder.row(r)) for r in runs]
 
@@ -83,16 +86,28 @@ def _cluster(ray: str | None, workers: int, needed: bool):
 
 
 def _run(folder, runs, rows: dict, tasks: list[dict], frames: int, workers: int, cluster, log) -> None:
-    """Run ``tasks`` on the pool or on Ray (``cluster``: the ray module), writing each run's files and
-    its row of ``rows`` as it finishes, and index.csv at most every INDEX_EVERY s and at the end."""
+    """Run ``tasks`` (single runs, or batches of runs as worlds: batch.py) on the pool or on Ray
+    (``cluster``: the ray module), writing each run's files and its row of ``rows`` as it finishes,
+    and index.csv at most every INDEX_EVERY s and at the end."""
     by_name = {r.name: r for r in runs}
     used = min(workers, max(1, len(tasks)))
     where = "Ray" if cluster else f"{used} worker process{'es' if used > 1 else ''}"
-    print(f"sweep: {_runs(len(runs))} of {frames} frames into {folder.out} ({len(runs) - len(tasks)} kept from "
-          f"before, {len(tasks)} to run on {where})", file=log, flush=True)
+    batched = sum(len(t["runs"]) for t in tasks if "runs" in t)
+    count = batched or len(tasks)
+    if batched:  # (rigid.engine.worlds: no contact across worlds, each world's rows its run's alone)
+        where += f", as {len(tasks)} batch{'es' if len(tasks) > 1 else ''} of worlds of one simulator each"
+    print(f"sweep: {_runs(len(runs))} of {frames} frames into {folder.out} ({len(runs) - count} kept from "
+          f"before, {count} to run on {where})", file=log, flush=True)
     began, last_index = time.perf_counter(), [0.0]
 
     def on_result(task, outcome):
+        """A task's outcome, or a batch's: each of its runs' (all failed alike if the batch's worker died)."""
+        if "runs" not in task:
+            return on_run(task, outcome)
+        for k, run in enumerate(task["runs"]):
+            on_run(run, outcome["batch"][k] if "batch" in outcome else dict(outcome, name=run["name"]))
+
+    def on_run(task, outcome):
         run = by_name[task["name"]]
         status = outcome["status"]
         if status == "ok":

@@ -50,7 +50,10 @@ def _start(config, quick_compile: bool, units_file: str | None):
 def run_task(task: dict) -> dict:
     """Simulate one run. Returns ``name``, ``status`` ("ok" or the failure's one line),
     ``energy`` (the last frame's total, J), ``seconds`` (wall, this run), ``npz`` and ``mp4``
-    (bytes, or None), ``pid`` (the worker's process id)."""
+    (bytes, or None), ``pid`` (the worker's process id). A batch task (``runs``: batch.py)
+    returns ``{"batch": [each run's outcome]}``."""
+    if "runs" in task:
+        return _run_batch(task)
     began = time.perf_counter()
     out = dict(name=task["name"], status="ok", energy=None, npz=None, mp4=None, pid=os.getpid())
     try:
@@ -73,6 +76,19 @@ def run_task(task: dict) -> dict:
     out["status"] = " ".join(str(out["status"]).split())  # one line, for the CSV
     out["seconds"] = time.perf_counter() - began
     return out
+
+
+def _run_batch(task: dict) -> dict:
+    """A batch's runs as worlds of one Simulator (batch.py); should the batch as a whole fail (a
+    world's bodies that overlap, say), each run alone, so that each gets its own status line."""
+    from .batch import run_batch
+
+    try:
+        with contextlib.redirect_stderr(io.StringIO()):
+            units = _start(task["runs"][0]["config"], task["quick_compile"], task.get("units"))
+            return run_batch(task, units, run_task)
+    except Exception:  # (each run alone says what is wrong with it, or succeeds)
+        return {"batch": [run_task(run) for run in task["runs"]]}
 
 
 def _simulate(task: dict, units, folder: Path):

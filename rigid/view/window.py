@@ -89,6 +89,8 @@ class _WindowLoop:
         """Draw frame i; while paused keep drawing and listening. True: the state was changed by hand."""
         if i > 0:
             self.steps += 1
+        if i == 1:  # the first frame simulated and drawn: every kernel compiled
+            print("running: Ctrl-C now stops between frames and keeps them", file=sys.stderr, flush=True)
         began = time.perf_counter()
         if self._left is not None:
             _smooth(self.timing, "sim_ms", 1e3 * (began - self._left))
