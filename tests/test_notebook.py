@@ -12,17 +12,23 @@ from conftest import ROOT
 NOTEBOOK = ROOT / "report" / "quickstart.ipynb"
 
 
-def test_the_quickstart_notebook_runs_and_shows_a_video_a_plot_and_frames():
+def executed(path):
+    """The notebook at ``path`` (stored without outputs) run headless from the repository's root:
+    its outputs, none an error, and the text it printed."""
     nbformat = pytest.importorskip("nbformat", reason="the dev extra installs nbformat, nbclient, ipykernel")
     nbclient = pytest.importorskip("nbclient")
     pytest.importorskip("ipykernel")
-    nb = nbformat.read(NOTEBOOK, as_version=4)
+    nb = nbformat.read(path, as_version=4)
     assert not any(cell.get("outputs") for cell in nb.cells if cell.cell_type == "code")  # stored without outputs
     nbclient.NotebookClient(nb, timeout=300, kernel_name="python3",
                             resources={"metadata": {"path": str(ROOT)}}).execute()
     outputs = [o for cell in nb.cells if cell.cell_type == "code" for o in cell.outputs]
     assert not [o for o in outputs if o.output_type == "error"]
-    text = "".join(o.get("text", "") for o in outputs if o.output_type == "stream")
+    return outputs, "".join(o.get("text", "") for o in outputs if o.output_type == "stream")
+
+
+def test_the_quickstart_notebook_runs_and_shows_a_video_a_plot_and_frames():
+    outputs, text = executed(NOTEBOOK)
     assert "1 body, 42 particles, 16 substeps a frame" in text
 
     html = [o.data["text/html"] for o in outputs if o.output_type == "execute_result" and "text/html" in o.data]
@@ -52,16 +58,7 @@ FIT_NOTEBOOK = ROOT / "report" / "fit.ipynb"
 
 
 def test_the_fit_notebook_aims_a_spinning_throw_at_a_target_and_recovers_e_and_mu_from_an_npz():
-    nbformat = pytest.importorskip("nbformat", reason="the dev extra installs nbformat, nbclient, ipykernel")
-    nbclient = pytest.importorskip("nbclient")
-    pytest.importorskip("ipykernel")
-    nb = nbformat.read(FIT_NOTEBOOK, as_version=4)
-    assert not any(cell.get("outputs") for cell in nb.cells if cell.cell_type == "code")  # stored without outputs
-    nbclient.NotebookClient(nb, timeout=300, kernel_name="python3",
-                            resources={"metadata": {"path": str(ROOT)}}).execute()
-    outputs = [o for cell in nb.cells if cell.cell_type == "code" for o in cell.outputs]
-    assert not [o for o in outputs if o.output_type == "error"]
-    text = "".join(o.get("text", "") for o in outputs if o.output_type == "stream")
+    outputs, text = executed(FIT_NOTEBOOK)
 
     # The aimed throw comes down over the target (the notebook prints the engine's landing point).
     aim = re.search(r"lands at \((-?[\d.]+), (-?[\d.]+)\), target \((-?[\d.]+), (-?[\d.]+)\): miss ([\d.]+) mm "

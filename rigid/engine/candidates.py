@@ -33,16 +33,40 @@ def _other_body(c: ti.template(), slot):
         ti.static(c.visit)(c.ctx, c.scratch.sorted_particle[slot])
 
 
+ALL, ABOVE, BELOW = 0, 1, 2  # which of a listed particle's candidates each_candidate visits
+
+
+@ti.func
+def _first_above(scratch: ti.template(), base, n, i):
+    """The first entry of the sorted list at ``base`` (n entries) above slot i (n if none)."""
+    lo, hi = 0, n
+    while lo < hi:
+        mid = (lo + hi) >> 1
+        if scratch.nbr_list[base + mid] > i:
+            hi = mid
+        else:
+            lo = mid + 1
+    return lo
+
+
 @ti.func
 def each_candidate(model: ti.template(), state: ti.template(), scratch: ti.template(), i, a, visit: ti.template(),
-                   ctx: ti.template()):
+                   ctx: ti.template(), which: ti.template() = ALL):
     """visit(ctx, j) for each candidate j of slot i (of body a): its neighbour list in order, or,
-    where the list overflowed, the build's grid around i's build position."""
+    where the list overflowed, the build's grid around i's build position. ``which``: ABOVE or
+    BELOW, of a listed particle only the candidates above (below) slot i, found by bisection in
+    the sorted list (the sweep's turns: pair_once.py, pair_parts.py); an overflowed one's all."""
     stride = neighbours.list_stride(scratch, state)
     n = scratch.nbr_count[i]
     if n <= stride:
-        for t in range(n):
-            visit(ctx, scratch.nbr_list[i * stride + t])
+        base = i * stride
+        first, end = 0, n
+        if ti.static(which == ABOVE):
+            first = _first_above(scratch, base, n, i)
+        elif ti.static(which == BELOW):
+            end = _first_above(scratch, base, n, i)
+        for t in range(first, end):
+            visit(ctx, scratch.nbr_list[base + t])
     else:
         grid.each_slot_around(scratch, grid.particle_coords(scratch, model, i, scratch.build_x[i]), _other_body,
                               ti.static(_Overflow(model, scratch, a, visit, ctx)))

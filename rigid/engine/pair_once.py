@@ -215,6 +215,7 @@ def sweep_particle(model: ti.template(), state: ti.template(), scratch: ti.templ
     reach_max = r_a + scratch.grid_params[3]
     candidates.each_candidate(model, state, scratch, i, a, _sweep_pair,
                               ti.static(SweepTurn(model, state, scratch, i, p, r_a, x_a, v_a, w_a, a_rests, k, kd, mu,
-                                                  reach_max, stride, sleeping, part, listed, f, couple)))
+                                                  reach_max, stride, sleeping, part, listed, f, couple)),
+                              candidates.ABOVE)
     scratch.particle_f[i] = f
     scratch.particle_couple[i] = couple

@@ -133,7 +133,8 @@ def collect_from_other_parts(model: ti.template(), state: ti.template(), scratch
     other parts, ascending, each as that partner's sweep turn computes and gives it (an
     overflowed particle sums every pair itself at its turn)."""
     candidates.each_candidate(model, state, scratch, i, model.particle_body[i], _collect,
-                              ti.static(Collect(model, state, scratch, i, part, i_rests, k, kd, mu, r_max, sleeping)))
+                              ti.static(Collect(model, state, scratch, i, part, i_rests, k, kd, mu, r_max, sleeping)),
+                              candidates.BELOW)
 
 
 @ti.func
