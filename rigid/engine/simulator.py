@@ -141,6 +141,7 @@ class Simulator(Pushes):
         self._params_version = self.params.version
         self.state.clear_contacts()
         clear(self._scratch_arrays["contacts"])
+        clear(self._scratch_arrays["pair_slip"])  # no pair's spring carried into the first lists
         b = self.bodies
         self.kernels.init_bodies(self.model.args, self.state.args,
                                  *(np.array([getattr(body, key) for body in b], np.float64)
