@@ -21,8 +21,9 @@ body's centre of mass); [2B]: ``rk`` RK4's Y₀ (slots 0..B−1) and the weighte
 its stages (slots B..2B−1), x, q, P, L packed in 13 numbers; with materials,
 ``contacts`` [N + 2K + 2B] i32: each particle's pair contacts, each block's plane and pair
 contacts, each body's of the last evaluation (material_stages.py; else one element; one
-array, as the x64 backend takes at most 64 argument elements); with materials, ``pair_slip`` and
-``kept_list``: the pairs' sticking springs beside the lists (pair_slip.py). RowArgs: rows.py.
+array, as the x64 backend takes at most 64 argument elements: a kernel taking every pack is at
+that limit, so new per-run data goes at the end of an array of its kind, as the kept lists of
+pair_slip.py at the end of ``contacts``). RowArgs: rows.py.
 """
 from __future__ import annotations
 
@@ -83,7 +84,7 @@ ScratchArgs = _pack_type(dict(
     cell_count=("i", 1), cell_start=("i", 1),
     sorted_particle=("i", 1), sorted_x=("v3", 1), sorted_body=("i", 1), sorted_run_end=("i", 1), chunk_total=("i", 1), grid_dims=("i", 1), grid_params=("f", 1),
     nbr_count=("i", 1), nbr_list=("i", 1), build_x=("v3", 1), nbr_flags=("i", 1), active=("i", 1), build_pose=("v16", 1),
-    rk=("v13", 1), contacts=("i", 1), pair_slip=("v3", 1), kept_list=("i", 1)))
+    rk=("v13", 1), contacts=("i", 1)))
 
 RowArgs = _pack_type(dict(body=("f", 3), contact_energy=("f", 2)))
 

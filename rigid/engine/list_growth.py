@@ -67,24 +67,20 @@ class ListGrowth:
     # places every particle from its body's state (the same numbers a substep computes).
     _STATE = tuple(name for name in StateArgs.NAMES if name not in ("particle_x", "particle_v"))
     _SCRATCH = ("nbr_flags", "build_pose", "contacts")
-    _SPRINGS = ("nbr_count", "nbr_list", "pair_slip")
+    _SPRINGS = ("nbr_count", "nbr_list")
 
     def _kept(self, sim) -> list:
-        names = self._SCRATCH + (self._SPRINGS if self._springs(sim._scratch_arrays) else ())
+        names = self._SCRATCH + (self._SPRINGS if sim.materials else ())
         return [getattr(sim.state, name) for name in self._STATE] + [sim._scratch_arrays[n] for n in names]
-
-    @staticmethod
-    def _springs(arrays: dict) -> bool:
-        return arrays["pair_slip"].shape[0] > 1
 
     def _grow(self, sim) -> None:
         arrays = sim._scratch_arrays
-        if self._springs(arrays):
-            pair_slip.grown(arrays, self.num_particles, self.stride(arrays))
+        if sim.materials:  # the pairs' springs (in state.plane_slip) laid out for the longer lists
+            pair_slip.grown(sim, self.num_particles, self.stride(arrays))
         else:
             arrays["nbr_list"] = zeros(2 * self.stride(arrays) * self.num_particles, "i")
             clear(arrays["nbr_count"])
-        sim.scratch = ScratchArgs()(**{name: arrays[name] for name in ScratchArgs.NAMES})
+            sim.scratch = ScratchArgs()(**{name: arrays[name] for name in ScratchArgs.NAMES})
         sim._launches = None  # prepared for the old arrays
 
 

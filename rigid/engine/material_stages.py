@@ -17,7 +17,7 @@ from collections import namedtuple
 
 import taichi as ti
 
-from . import candidates, neighbours
+from . import candidates, neighbours, pair_slip
 from .contact import pair_contact, pair_contact_sticking
 from .materials import normal_damping, pair_mu, pair_restitution, sticking_damping
 from .matvec import matvec
@@ -94,7 +94,7 @@ def _material_pair(model: ti.template(), state: ti.template(), world: ti.templat
         # Both sides keep the spring, or neither: j's list may have overflowed (it walks the grid).
         if entry >= 0 and scratch.nbr_count[j] <= neighbours.list_stride(scratch, state):
             f_lo, point, slip = pair_contact_sticking(lo_p, hi_p, lo_r, hi_r, lo_x, lo_v, lo_w, hi_x, hi_v, hi_w,
-                                                      k, c, ct, mu, scratch.pair_slip[entry], step)
+                                                      k, c, ct, mu, pair_slip.spring(state, scratch, entry), step)
         else:  # no entry: friction viscous below μ f_n (contact.friction)
             f_lo, point, _e = pair_contact(lo_p, hi_p, lo_r, hi_r, lo_x, lo_v, lo_w, hi_x, hi_v, hi_w, k, c, ct, mu)
         f = sign * f_lo
@@ -106,7 +106,7 @@ def _material_pair(model: ti.template(), state: ti.template(), world: ti.templat
         if dist - reach < closing * dt:
             touching = 1
     if entry >= 0:
-        scratch.pair_slip[entry] = slip  # zero once apart
+        pair_slip.set_spring(state, scratch, entry, slip)  # zero once apart
     return f, couple, touching
 
 
