@@ -8,7 +8,11 @@ to export it (a node that never moves, in glTF and USD; the NPZ's last bodies, a
 
 Its particles: the surface, its triangles split until no edge is longer than the spacing h,
 then every vertex; each particle's radius is h, so neighbouring spheres overlap by half and
-leave no gap a particle could pass through (bumps of 0.13 h). h is 2.5 times the smallest
+leave no gap a particle could pass through (bumps of 0.13 h). A closed mesh (each edge shared
+by two triangles: a box, stairs) has its spheres moved inside it, tangent to its faces, as a
+body's are (rigid.bodies.inset), so that bodies touch it at its surface; an open one (the bowl)
+has no inside to move them to: its spheres stay centred on the surface, a shell h thick on
+either side. h is 2.5 times the smallest
 radius of the scene's moving particles (bumps of a third of their radius, which they roll
 over; a finer h costs particles as 1/h²), or 1 % of the mesh's size if they have none. ``position`` is where the mesh file's origin goes and ``orientation`` turns
 the mesh about it (a static has no centre of mass to speak of).
@@ -21,6 +25,7 @@ import numpy as np
 
 from ..errors import UserError
 from .mesh import BodyGeometry, read_mesh
+from .inset import collision_centres
 from .placement import BodySpec
 from .quaternion import quaternion_to_matrix_np
 
@@ -37,7 +42,9 @@ def static_bodies(config, bodies: list) -> list[BodySpec]:
         mesh = read_mesh(table["mesh"], float(table.get("scale", 1.0)))
         size = float(np.ptp(mesh.vertices, axis=0).max())
         h = STATIC_SPACING * min(moving) if moving else 0.01 * size
-        particles = surface_particles(mesh.vertices, mesh.faces, h, where)
+        particles, faces = surface_particles(mesh.vertices, mesh.faces, h, where)
+        if closed(mesh.faces):
+            particles = collision_centres(particles, particles, faces, h)
         q = np.asarray(table.get("orientation", (1.0, 0.0, 0.0, 0.0)), float)
         q = q / np.linalg.norm(q)
         origin = np.asarray(table.get("position", (0.0, 0.0, 0.0)), float)
@@ -51,8 +58,17 @@ def static_bodies(config, bodies: list) -> list[BodySpec]:
     return out
 
 
-def surface_particles(vertices: np.ndarray, faces: np.ndarray, h: float, where: str) -> np.ndarray:
-    """The mesh's vertices after splitting its triangles to edges <= h, coincident ones merged."""
+def closed(faces: np.ndarray) -> bool:
+    """Whether every edge of the triangles is shared by exactly two of them."""
+    faces = np.asarray(faces, np.int64).reshape(-1, 3)
+    edges = np.sort(np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]), axis=1)
+    _edges, counts = np.unique(edges, axis=0, return_counts=True)
+    return len(faces) > 0 and bool(np.all(counts == 2))
+
+
+def surface_particles(vertices: np.ndarray, faces: np.ndarray, h: float, where: str):
+    """The mesh's vertices after splitting its triangles to edges <= h, coincident ones merged, and
+    the split triangles on them."""
     if len(faces) == 0:
         raise UserError(f"{where}: the mesh has no triangles; a static mesh needs a surface")
     import trimesh  # deferred: slow to import
@@ -61,6 +77,6 @@ def surface_particles(vertices: np.ndarray, faces: np.ndarray, h: float, where: 
     if area / (h * h) > MAX_STATIC_PARTICLES:
         raise UserError(f"{where}: its surface ({area:.3g} m²) would take ~{area / h / h:,.0f} particles "
                         f"{h:.3g} m apart; use a smaller scale or larger moving particles (particle_radius)")
-    v, _f = trimesh.remesh.subdivide_to_size(vertices, faces, max_edge=h)
-    v = np.unique(np.round(np.asarray(v, np.float64) / (1e-6 * h)) * (1e-6 * h), axis=0)
-    return v
+    v, f = trimesh.remesh.subdivide_to_size(vertices, faces, max_edge=h)
+    v, inverse = np.unique(np.round(np.asarray(v, np.float64) / (1e-6 * h)) * (1e-6 * h), axis=0, return_inverse=True)
+    return v, inverse.reshape(-1)[np.asarray(f, np.int64)]

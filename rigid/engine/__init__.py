@@ -15,7 +15,9 @@
                 pair_parts.py: the same sweep in parts for a CPU's threads, the bodies cut into
                 them by where they are (part_cut.py)
   candidates.py the one walk over a particle's contact candidates (its list, or the grid where
-                it overflowed), which every pair consumer calls with a visitor
+                it overflowed), which every pair consumer calls with a visitor; pair_slip.py:
+                with materials, each contact pair's sticking spring kept per list entry and
+                carried across rebuilds
   contact.py    the one contact law; grid.py, scan.py, neighbours.py: the grid and neighbour lists;
                 motion.py: when the lists must be rebuilt (each body's motion, the pairs near enough to touch);
                 list_growth.py: longer lists where one overflowed (the chunk run again); skin.py: the

@@ -21,7 +21,9 @@ body's centre of mass); [2B]: ``rk`` RK4's Y₀ (slots 0..B−1) and the weighte
 its stages (slots B..2B−1), x, q, P, L packed in 13 numbers; with materials,
 ``contacts`` [N + 2K + 2B] i32: each particle's pair contacts, each block's plane and pair
 contacts, each body's of the last evaluation (material_stages.py; else one element; one
-array, as the x64 backend takes at most 64 argument elements). RowArgs: rows.py.
+array, as the x64 backend takes at most 64 argument elements: a kernel taking every pack is at
+that limit, so new per-run data goes at the end of an array of its kind, as the kept lists of
+pair_slip.py at the end of ``contacts``). RowArgs: rows.py.
 """
 from __future__ import annotations
 

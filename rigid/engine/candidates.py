@@ -21,7 +21,7 @@ import taichi as ti
 from . import grid, neighbours
 
 
-_Overflow = namedtuple("_Overflow", "model scratch body visit ctx")
+_Overflow = namedtuple("_Overflow", "model scratch body visit ctx entries")
 
 
 @ti.func
@@ -30,7 +30,10 @@ def _other_body(c: ti.template(), slot):
     the particle's own body or of another world."""
     b = c.scratch.sorted_body[slot]
     if b != c.body and grid.same_world(c.model, b, c.body):
-        ti.static(c.visit)(c.ctx, c.scratch.sorted_particle[slot])
+        if ti.static(c.entries):
+            ti.static(c.visit)(c.ctx, c.scratch.sorted_particle[slot], -1)
+        else:
+            ti.static(c.visit)(c.ctx, c.scratch.sorted_particle[slot])
 
 
 ALL, ABOVE, BELOW = 0, 1, 2  # which of a listed particle's candidates each_candidate visits
@@ -69,4 +72,20 @@ def each_candidate(model: ti.template(), state: ti.template(), scratch: ti.templ
             visit(ctx, scratch.nbr_list[base + t])
     else:
         grid.each_slot_around(scratch, grid.particle_coords(scratch, model, i, scratch.build_x[i]), _other_body,
-                              ti.static(_Overflow(model, scratch, a, visit, ctx)))
+                              ti.static(_Overflow(model, scratch, a, visit, ctx, False)))
+
+
+@ti.func
+def each_entry(model: ti.template(), state: ti.template(), scratch: ti.template(), i, a, visit: ti.template(),
+               ctx: ti.template()):
+    """each_candidate with each candidate's place in i's list: visit(ctx, j, e), e = i·K + t the
+    index of the entry (and of what arrays beside the lists keep for it: pair_slip.py), or −1
+    where i's list overflowed and the grid is walked (no entry, nothing kept)."""
+    stride = neighbours.list_stride(scratch, state)
+    n = scratch.nbr_count[i]
+    if n <= stride:
+        for t in range(n):
+            visit(ctx, scratch.nbr_list[i * stride + t], i * stride + t)
+    else:
+        grid.each_slot_around(scratch, grid.particle_coords(scratch, model, i, scratch.build_x[i]), _other_body,
+                              ti.static(_Overflow(model, scratch, a, visit, ctx, True)))

@@ -2,7 +2,9 @@
 
 With ``restitution`` / ``friction`` / [[plane]] / [[static]] in the scene, the same law takes
 each contact's damper from its materials and friction sticks on the planes
-(``plane_force_sticking``, ``pair_force_damped``; rigid.engine.materials says how).
+(``plane_force_sticking`` on the planes, ``pair_contact_sticking`` between bodies: a
+tangential spring per contact that slips at μ f_n; rigid.engine.materials says how, and
+rigid.engine.pair_slip how each pair's spring is kept).
 
 Every contact, wall or pair, is a penalty spring on the overlap δ of a particle's sphere
 (radius r, the body's ``particle_radius``) with the other side, with
@@ -130,6 +132,42 @@ def pair_contact(p_i, p_j, r_a, r_b, x_a, v_a, w_a, x_b, v_b, w_b, k, kd, kt, mu
         force = -fn * n - friction(fn, v_rel - vn * n, mu, kt)
         energy = 0.25 * k * overlap * overlap
     return force, c, energy
+
+
+@ti.func
+def pair_contact_sticking(p_i, p_j, r_a, r_b, x_a, v_a, w_a, x_b, v_b, w_b, k, c, ct, mu, slip, step):
+    """``pair_contact`` with Coulomb friction that sticks (materials), as ``plane_force_sticking``
+    on a plane: a tangential spring k whose stretch ``slip`` (world vec3: j's displacement
+    relative to i since the contact began, zero then) grows by v_t ``step``, is projected onto
+    the current tangent plane (the pair turns), damped by ct and slips at μ f_n, re-anchored
+    where the spring alone holds μ f_n. Returns (force on i, the contact point, the new slip:
+    zero when apart)."""
+    force = ti.Vector.zero(float, 3)
+    point = ti.Vector.zero(float, 3)
+    new_slip = ti.Vector.zero(float, 3)
+    d = p_j - p_i
+    dist2 = d.dot(d)
+    reach = r_a + r_b
+    if dist2 < reach * reach and dist2 > 0:
+        dist = ti.sqrt(dist2)
+        n = d / dist
+        point = 0.5 * (p_i + p_j) + (0.5 * (r_a - r_b)) * n
+        v_rel = (v_b + w_b.cross(point - x_b)) - (v_a + w_a.cross(point - x_a))
+        vn = v_rel.dot(n)
+        fn = ti.max(k * (reach - dist) - c * vn, 0.0)
+        vt = v_rel - vn * n
+        s = slip - n.dot(slip) * n + step * vt
+        ft = -k * s - ct * vt  # on j: the spring pulls it back to where the contact began
+        cap = mu * fn
+        size = ft.norm()
+        if size > cap:
+            ft = (cap / size) * ft  # size > cap >= 0
+            s = ti.Vector.zero(float, 3)
+            if k > 0:
+                s = (-1.0 / k) * ft
+        force = -fn * n - ft
+        new_slip = s
+    return force, point, new_slip
 
 
 @ti.func

@@ -23,6 +23,7 @@ import ctypes
 import numpy as np
 import taichi as ti
 
+from . import pair_slip
 from .arrays import IntCell, ScratchArgs, StateArgs, _cpu_pointer, byte_size, clear, download, upload, zeros
 
 MAX_NEIGHBOURS = 64  # list slots per particle at most
@@ -53,26 +54,33 @@ class ListGrowth:
             run_chunk()
             if not self._overflowed.value:
                 return
-            self._grow(sim)
             self._copy.restore()
+            self._grow(sim)  # from the chunk's start: the pairs' springs are carried into the longer lists
+            self._copy = None  # a copy of the new arrays at the next try
             self._rebuild.value = 1  # rebuild (with the longer lists) at the first placement
         run_chunk()
 
     # What a chunk changes and keeps: the bodies' state, the materials' springs on the planes and,
-    # of the scratch arrays, the lists' flags and build poses and the materials' contact counts.
+    # of the scratch arrays, the lists' flags and build poses and the materials' contact counts;
+    # with materials, the lists and their pairs' springs too (the rebuild carries them: pair_slip.py).
     # The rest is rewritten by every substep, or by the rebuild that starts the chunk again, which
     # places every particle from its body's state (the same numbers a substep computes).
     _STATE = tuple(name for name in StateArgs.NAMES if name not in ("particle_x", "particle_v"))
     _SCRATCH = ("nbr_flags", "build_pose", "contacts")
+    _SPRINGS = ("nbr_count", "nbr_list")
 
     def _kept(self, sim) -> list:
-        return [getattr(sim.state, name) for name in self._STATE] + [sim._scratch_arrays[n] for n in self._SCRATCH]
+        names = self._SCRATCH + (self._SPRINGS if sim.materials else ())
+        return [getattr(sim.state, name) for name in self._STATE] + [sim._scratch_arrays[n] for n in names]
 
     def _grow(self, sim) -> None:
         arrays = sim._scratch_arrays
-        arrays["nbr_list"] = zeros(2 * self.stride(arrays) * self.num_particles, "i")
-        clear(arrays["nbr_count"])
-        sim.scratch = ScratchArgs()(**{name: arrays[name] for name in ScratchArgs.NAMES})
+        if sim.materials:  # the pairs' springs (in state.plane_slip) laid out for the longer lists
+            pair_slip.grown(sim, self.num_particles, self.stride(arrays))
+        else:
+            arrays["nbr_list"] = zeros(2 * self.stride(arrays) * self.num_particles, "i")
+            clear(arrays["nbr_count"])
+            sim.scratch = ScratchArgs()(**{name: arrays[name] for name in ScratchArgs.NAMES})
         sim._launches = None  # prepared for the old arrays
 
 

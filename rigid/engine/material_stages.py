@@ -6,8 +6,9 @@ for bit as before):
   (materials.py: c = 2 ζ' √(k m_eff), m_eff = M / n with n the body's contacts: with the planes
   counted before the forces (``count_plane_block``), with other bodies as the last pair stage
   predicted them (``pair_stage``); summed per body by ``sum_counts``, in ``scratch.contacts``);
-- the pair stage with those dampers (``pair_stage``); the planes' law with sticking friction is
-  plane_terms.material_planes, in the one force loop (force_loop.py);
+- the pair stage with those dampers and friction that sticks (``pair_stage``: each pair's
+  tangential spring kept per list entry, pair_slip.py); the planes' law with sticking friction
+  is plane_terms.material_planes, in the one force loop (force_loop.py);
 - a static body (``model.body_material[b][2]`` = 1) gets no forces and is not integrated (substep.py);
   the pair stage acts on the moving side only, with the static side's mass infinite.
 Every sum keeps fixed orders (slots, blocks), so runs stay bit-reproducible.
@@ -16,8 +17,8 @@ from collections import namedtuple
 
 import taichi as ti
 
-from . import candidates
-from .contact import pair_force_damped
+from . import candidates, neighbours, pair_slip
+from .contact import pair_contact, pair_contact_sticking
 from .materials import normal_damping, pair_mu, pair_restitution, sticking_damping
 from .matvec import matvec
 from .stages import num_planes, planes_in_reach
@@ -58,9 +59,12 @@ def _pair_count(model: ti.template(), state: ti.template(), scratch: ti.template
 
 @ti.func
 def _material_pair(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(),
-                   a, p, r_a, x_a, v_a, w_a, j):
-    """Slot j (another body's particle) on the particle at p of body a: (force, couple, 1 if it
-    touches now or will after this substep at their closing speed, else 0)."""
+                   i, a, p, r_a, x_a, v_a, w_a, j, entry, step):
+    """Slot j (another body's particle) on slot i at p (body a): (force, couple, 1 if it touches now
+    or will after this substep at their closing speed, else 0). ``entry``: the pair's place in i's
+    list, where its sticking spring is kept (pair_slip.py), or −1 (i walks the grid). The law is
+    evaluated from the lower slot's side whichever side asks, so that both sides' forces are
+    exactly opposite and both copies of the spring evolve alike (pair_stages.pair_between)."""
     f = ti.Vector.zero(float, 3)
     couple = ti.Vector.zero(float, 3)
     touching = 0
@@ -69,39 +73,60 @@ def _material_pair(model: ti.template(), state: ti.template(), world: ti.templat
     d = q - p
     reach = r_a + r_b
     k, dt = world.values[STIFFNESS], world.values[DT]
+    slip = ti.Vector.zero(float, 3)
     if d.dot(d) < reach * reach:
         m_eff = _pair_mass(model, a, b) / _pair_count(model, state, scratch, a, b)
         ma, mb = model.body_material[a], model.body_material[b]
         c = normal_damping(pair_restitution(ma[1], mb[1]), k, m_eff, dt, 0.0, 1.0, world.values,
                            MATERIALS + MATERIAL_TABLE, world.values[DAMPING])
         mu = pair_mu(ma[0], mb[0], world.values[FRICTION])
-        f, couple, _e = pair_force_damped(p, q, r_a, r_b, x_a, v_a, w_a, state.x[b], state.v[b], state.omega[b],
-                                          k, c, sticking_damping(k, m_eff, dt), mu)
+        ct = sticking_damping(k, m_eff, dt)
+        x_b, v_b, w_b = state.x[b], state.v[b], state.omega[b]
+        lo_p, lo_r, lo_x, lo_v, lo_w = p, r_a, x_a, v_a, w_a
+        hi_p, hi_r, hi_x, hi_v, hi_w = q, r_b, x_b, v_b, w_b
+        sign = 1.0
+        if j < i:
+            lo_p, lo_r, lo_x, lo_v, lo_w = q, r_b, x_b, v_b, w_b
+            hi_p, hi_r, hi_x, hi_v, hi_w = p, r_a, x_a, v_a, w_a
+            sign = -1.0
+        f_lo = ti.Vector.zero(float, 3)
+        point = ti.Vector.zero(float, 3)
+        # Both sides keep the spring, or neither: j's list may have overflowed (it walks the grid).
+        if entry >= 0 and scratch.nbr_count[j] <= neighbours.list_stride(scratch, state):
+            f_lo, point, slip = pair_contact_sticking(lo_p, hi_p, lo_r, hi_r, lo_x, lo_v, lo_w, hi_x, hi_v, hi_w,
+                                                      k, c, ct, mu, pair_slip.spring(state, scratch, entry), step)
+        else:  # no entry: friction viscous below μ f_n (contact.friction)
+            f_lo, point, _e = pair_contact(lo_p, hi_p, lo_r, hi_r, lo_x, lo_v, lo_w, hi_x, hi_v, hi_w, k, c, ct, mu)
+        f = sign * f_lo
+        couple = (point - p).cross(f)
         touching = 1
     elif d.dot(d) < 4.0 * reach * reach:  # about to touch? (for the next count)
         dist = ti.sqrt(d.dot(d))
         closing = ((v_a + w_a.cross(p - x_a)) - (state.v[b] + state.omega[b].cross(q - state.x[b]))).dot(d) / dist
         if dist - reach < closing * dt:
             touching = 1
+    if entry >= 0:
+        pair_slip.set_spring(state, scratch, entry, slip)  # zero once apart
     return f, couple, touching
 
 
-MaterialSums = namedtuple("MaterialSums", "model state world scratch a p r_a x_a v_a w_a f couple touching")
+MaterialSums = namedtuple("MaterialSums", "model state world scratch i a p r_a x_a v_a w_a step f couple touching")
 
 
 @ti.func
-def _add_material_pair(c: ti.template(), j):
+def _add_material_pair(c: ti.template(), j, entry):
     """pair_stage's visitor: candidate j's force, couple and contact count added to the sums."""
-    fp, cp, hit = _material_pair(c.model, c.state, c.world, c.scratch, c.a, c.p, c.r_a, c.x_a, c.v_a, c.w_a, j)
+    fp, cp, hit = _material_pair(c.model, c.state, c.world, c.scratch, c.i, c.a, c.p, c.r_a, c.x_a, c.v_a, c.w_a, j,
+                                 entry, c.step)
     c.f += fp
     c.couple += cp
     c.touching += hit
 
 
 @ti.func
-def pair_stage(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(), i):
+def pair_stage(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(), i, step):
     """Stage 3a with materials: slot i's force and couple from its candidates (the other bodies'
-    particles near it, candidates.py), and how
+    particles near it, candidates.py), their springs stretched over ``step``, and how
     many of them touch it or will after this substep at their closing speed (the next force
     evaluation's count: a count of those touching only would be 0 on a contact's first substep
     and over-damp it, 19 % low at e = 0.1 for volume balls head-on; counting them anew before
@@ -113,9 +138,9 @@ def pair_stage(model: ti.template(), state: ti.template(), world: ti.template(),
     if not is_static(model, a):
         p, r_a = state.particle_x[i], model.particle_radius[a]
         x_a, v_a, w_a = state.x[a], state.v[a], state.omega[a]
-        candidates.each_candidate(model, state, scratch, i, a, _add_material_pair,
-                                  ti.static(MaterialSums(model, state, world, scratch, a, p, r_a, x_a, v_a,
-                                                         w_a, f, couple, touching)))
+        candidates.each_entry(model, state, scratch, i, a, _add_material_pair,
+                              ti.static(MaterialSums(model, state, world, scratch, i, a, p, r_a, x_a, v_a, w_a,
+                                                     step, f, couple, touching)))
     scratch.particle_f[i] = f
     scratch.particle_couple[i] = couple
     scratch.contacts[i] = touching

@@ -56,8 +56,9 @@ tangential spring (k_t = k, the Cundall-Strack DEM spring) anchored where the pa
 touched: it holds a body still on a slope below its friction angle (a viscous law creeps at
 ≈ g sin θ Δt / 2 at best, 5 mm in 2 s on a 30° ramp at Δt = 1 ms); it slips at μ f_n and
 is then re-anchored at |k_t ξ| = μ f_n. Its damper is critical (c_t = 2 √(k m_eff), same
-clamp). Between bodies, sticking stays viscous (c_t |v_t| capped at μ f_n): a pair has no
-memory of its contacts.
+clamp). Between bodies the same spring acts on each touching pair of particles, kept with the
+pair in the neighbour lists (pair_slip.py); where a list overflowed it is viscous (c_t |v_t|
+capped at μ f_n).
 
 Pair rules (contract: the README states them, as Box2D's b2MixRestitution / b2MixFriction):
 e = max(e_a, e_b) (a bouncy ball bounces on any floor; ζ = min(ζ_a, ζ_b), ζ falling with e),

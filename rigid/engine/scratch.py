@@ -1,12 +1,12 @@
 """The arrays a substep rewrites (ScratchArgs: forces, partial sums, the grid, the neighbour
 lists, RK4, the material contacts' counts), sized for a Model and a scene. What each holds:
-arrays.py, grid.py, neighbours.py, material_stages.py."""
+arrays.py, grid.py, neighbours.py, material_stages.py, pair_slip.py."""
 from __future__ import annotations
 
 import numpy as np
 import taichi as ti
 
-from . import neighbours, refresh, refresh_state
+from . import neighbours, pair_slip, refresh, refresh_state
 from .arrays import ScratchArgs, device_array, zeros
 from .grid import GridShape
 
@@ -30,7 +30,8 @@ def make_scratch(model, config, pairs: bool, materials: bool):
                   grid_params=device_array(grid_params(diameter, neighbours.SKIN_FRACTION)),
                   nbr_count=zeros(paired, "i"), nbr_list=zeros(lists, "i"), build_x=zeros(paired, "v3"),
                   nbr_flags=zeros(refresh_state.flags_size(B) if pairs else 3, "i"), active=zeros(paired, "i"), build_pose=device_array(build_pose(model), 16),
-                  rk=zeros(2 * B, "v13"), contacts=zeros(N + 2 * K + 2 * B if materials else 1, "i"))
+                  rk=zeros(2 * B, "v13"),
+                  contacts=zeros(N + 2 * K + 2 * B + pair_slip.kept_size(N, lists, pairs) if materials else 1, "i"))
     return ScratchArgs()(**{name: arrays[name] for name in ScratchArgs.NAMES}), arrays, shape
 
 

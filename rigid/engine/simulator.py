@@ -28,6 +28,7 @@ from .scratch import build_pose, make_scratch, particle_diameter
 from .skin import AdaptiveSkin
 from .launch import run_chunk, schedule_launches
 from .model import BodyParts, Model
+from .neighbours import NEIGHBOURS_PER_PARTICLE
 from .rows import FrameRows, split_rows, with_energies
 from .schedule import check_schedule, choose_schedule
 from .state import Params, State
@@ -74,7 +75,7 @@ class Simulator(Pushes):
                            b.radius, b.name, b.restitution, b.friction, b.static, b.drag) for b in self.bodies]
         self.model = Model(parts, self.kernels, worlds)
         B, N = self.model.num_bodies, self.model.num_particles
-        self.state = State(B, N, materials)
+        self.state = State(B, N, materials, N * NEIGHBOURS_PER_PARTICLE if pairs else 0)
         self.params = Params(config)
         self.params.set_springs([s.row() for s in self.springs], worlds)
         self.params.sleep = self.params.sleep and not self.springs  # a spring's far end moves a sleeper

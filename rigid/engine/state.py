@@ -40,7 +40,7 @@ MATERIAL_TABLE = 4 * MAX_PLANES
 
 
 class State:
-    def __init__(self, num_bodies: int, num_particles: int, materials: bool = False):
+    def __init__(self, num_bodies: int, num_particles: int, materials: bool = False, lists: int = 0):
         B, N = num_bodies, num_particles
         kinds = dict(x="v3", q="v4", P="v3", L="v3", v="v3", omega="v3", R="m3", inertia_inv="m3")
         for name, kind in kinds.items():
@@ -49,8 +49,9 @@ class State:
         self.particle_v = zeros(N, "v3")
         self.sleep = zeros(B, "v3i")  # (asleep, quiet substeps, woken): sleep.py
         # Materials only (material_stages.py): each particle's tangential spring on each plane
-        # [N·MAX_PLANES] vec3 (world, m).
-        self.plane_slip = zeros(N * MAX_PLANES if materials else 1, "v3")
+        # [N·MAX_PLANES] vec3 (world, m), then those of the pairs in the ``lists`` entries of the
+        # neighbour lists and their copies during a rebuild [2 · lists] (pair_slip.py).
+        self.plane_slip = zeros(N * MAX_PLANES + 2 * lists if materials else 1, "v3")
         self.args = StateArgs()(**{name: getattr(self, name) for name in StateArgs.NAMES})
 
 

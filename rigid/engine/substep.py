@@ -18,8 +18,8 @@ from collections import namedtuple
 
 import taichi as ti
 
-from . import (force_loop, grid, material_stages, neighbours, pair_once, pair_parts, pair_stages, refresh, schemes,
-               sleep, stages)
+from . import (force_loop, grid, material_stages, neighbours, pair_once, pair_parts, pair_slip, pair_stages, refresh,
+               schemes, sleep, stages)
 from .state import DT
 
 Plan = namedtuple("Plan", "u update rk4 pairs materials sleeping parts refreshing compact")
@@ -59,12 +59,18 @@ def place_and_build(plan: ti.template(), model: ti.template(), state: ti.templat
     else:
         grid.finish_serial(scratch, model, state, neighbours.rebuild_gate(scratch))
     refresh.start_build(state, scratch)
+    if ti.static(plan.materials):  # the pairs' sticking springs, to carry into the new lists
+        for i in range(state.particle_x.shape[0] * neighbours.rebuild_gate(scratch)):
+            pair_slip.keep(state, scratch, i)
     for i in range(state.particle_x.shape[0] * neighbours.rebuild_gate(scratch)):
         neighbours.clear_list(scratch, i)
     for i in range(state.particle_x.shape[0] * neighbours.rebuild_gate(scratch)):
         neighbours.build_list(model, state, scratch, i)
     for i in range(state.particle_x.shape[0] * neighbours.rebuild_gate(scratch)):
         neighbours.finish_list(state, scratch, i, parallel)
+    if ti.static(plan.materials):
+        for i in range(state.particle_x.shape[0] * neighbours.rebuild_gate(scratch)):
+            pair_slip.carry(state, scratch, i)
     neighbours.list_active(state, scratch, neighbours.rebuild_gate(scratch), parallel)
     for b in range(state.x.shape[0] * neighbours.rebuild_gate(scratch)):
         refresh.after_build(state, scratch, b)
@@ -89,7 +95,7 @@ def step(plan: ti.template(), model: ti.template(), state: ti.template(), world:
         for b in range(state.x.shape[0]):
             material_stages.sum_counts(model, state, scratch, b)
     if ti.static(plan.pairs):
-        pair_forces(plan, model, state, world, scratch, parallel)
+        pair_forces(plan, model, state, world, scratch, parallel, weight * world.values[DT])
     for k in range(model.block_start.shape[0]):
         if not ti.static(plan.sleeping) or not sleep.resting(state, model.block_body[k]):
             force_loop.block_forces(plan.u, model, state, world, scratch, k, plan.pairs, plan.compact, plan.materials,
@@ -103,12 +109,13 @@ def step(plan: ti.template(), model: ti.template(), state: ti.template(), world:
 
 @ti.func
 def pair_forces(plan: ti.template(), model: ti.template(), state: ti.template(), world: ti.template(),
-                scratch: ti.template(), parallel: ti.template()):
+                scratch: ti.template(), parallel: ti.template(), step):
     """Stage 3a, each particle's force and couple from the other bodies', by the schedule's way of
-    walking the pairs (the same law, contact.py, and candidates, candidates.py)."""
+    walking the pairs (the same law, contact.py, and candidates, candidates.py); with materials,
+    the pairs' sticking springs stretch over ``step`` (pair_slip.py)."""
     if ti.static(plan.materials):
         for t in range(neighbours.num_active(scratch)):  # each writes its own slot: any order
-            material_stages.pair_stage(model, state, world, scratch, scratch.active[t])
+            material_stages.pair_stage(model, state, world, scratch, scratch.active[t], step)
     elif ti.static(parallel and plan.parts):  # a CPU: the sweep in parts (pair_parts.py)
         pair_parts.parallel_pairs(model, state, world, scratch, plan.sleeping, plan.parts)
     elif ti.static(parallel):  # each particle's full list (its own slot: any order)
