@@ -11,6 +11,8 @@ the last.
 """
 from __future__ import annotations
 
+import time
+
 import numpy as np
 import taichi as ti
 
@@ -49,8 +51,10 @@ class Pass:
             serial = key[6] <= SERIAL_PARTICLES
             _TAPES[key] = (tape, kernel_module.build(tape, units, problem.scheme, problem.materials, P, serial))
         self.tape, self.k = _TAPES[key]
+        self.serial = key[6] <= SERIAL_PARTICLES
         self.tape.load(problem)
         self.checkpoints: list = []
+        self.seconds = dict(rerun=0.0, adjoint=0.0)  # of the last backward
 
     def _length(self, g: int) -> int:
         return min(self.segment, self.total - g * self.segment)
@@ -66,6 +70,18 @@ class Pass:
         t.F.fill(0)
         t.T.fill(0)
         t.count.fill(0)
+        if self.serial:
+            if write_rows and g == 0:
+                k.rows(0, 0, B)
+            k.advance(0, self._length(g), N, B, dt, g * self.segment, self.substeps, int(write_rows))
+        else:
+            self._run_substeps(g, write_rows)
+        if B > 1:
+            self._check_apart(g)
+
+    def _run_substeps(self, g: int, write_rows: bool) -> None:
+        t, k, p = self.tape, self.k, self.problem
+        B, N, dt = p.num_bodies, p.num_particles, p.dt
         for s in range(self._length(g)):
             if write_rows and (s > 0 or g == 0) and self._frame_at(g, s) is not None:
                 k.rows(s, self._frame_at(g, s), B)
@@ -73,8 +89,6 @@ class Pass:
         end = self._length(g)
         if write_rows:
             k.rows(end, self._frame_at(g, end), B)
-        if B > 1:
-            self._check_apart(g)
 
     def _check_apart(self, g: int) -> None:
         """Refuse a run where two bodies come within reach of each other (their bounding spheres,
@@ -128,26 +142,36 @@ class Pass:
             if key in cotangents:
                 seed[:self.frames + 1, :B] = cotangents[key]
             f.grad.from_numpy(seed)
+        self.seconds = dict(rerun=0.0, adjoint=0.0)
         for g in reversed(range(self.num_segments)):
+            start = time.perf_counter()
             if g < self.num_segments - 1:  # the last segment is still on the tape
                 for field, value in zip(self._checkpoint_fields(), self.checkpoints[g]):
                     field.from_numpy(value)
                 k.restore(0, B, N)
                 self._run_segment(g, False)
+            self.seconds["rerun"] += time.perf_counter() - start
+            start = time.perf_counter()
             t.clear_segment_grads()
             end = self._length(g)
             if g < self.num_segments - 1:
                 for field, value in zip(self._checkpoint_fields(), self._carried):
                     field.from_numpy(value)
                 k.restore_grad(end, B, N)
-            for s in range(end, -1, -1):
-                frame = self._frame_at(g, s)
-                if frame is not None and (s > 0 or g == 0):
-                    k.rows.grad(s, frame, B)
-                if s > 0:
-                    k.substep.grad(s - 1, N, B, dt)
+            if self.serial:
+                k.advance.grad(0, end, N, B, dt, g * self.segment, self.substeps, 1)
+                if g == 0:
+                    k.rows.grad(0, 0, B)
+            else:
+                for s in range(end, -1, -1):
+                    frame = self._frame_at(g, s)
+                    if frame is not None and (s > 0 or g == 0):
+                        k.rows.grad(s, frame, B)
+                    if s > 0:
+                        k.substep.grad(s - 1, N, B, dt)
             k.save_grad(0, B, N)
             self._carried = [f.to_numpy() for f in self._checkpoint_fields()]
+            self.seconds["adjoint"] += time.perf_counter() - start
         k.init.grad(B)
         k.invert.grad(B)
         k.inertia.grad(N)
