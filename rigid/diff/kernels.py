@@ -28,14 +28,6 @@ from ..engine.matvec import matvec
 from ..engine.rotation import quaternion_to_matrix
 
 
-def _compiling_adjoint() -> bool:
-    """Whether Taichi is now compiling a kernel's adjoint (read at compile time, in ti.static)."""
-    from taichi.lang import impl
-    from taichi.lang.enums import AutodiffMode
-
-    return impl.get_runtime().current_kernel.autodiff_mode == AutodiffMode.REVERSE
-
-
 def build(tape, units, scheme: str, materials: bool, num_planes: int, serial: bool = True):
     """The pass's kernels (a namespace) over ``tape``'s fields for these TODO units and scheme;
     ``serial``: run the substep's loops on the launching thread (at tens of particles handing a
@@ -174,42 +166,50 @@ def build(tape, units, scheme: str, materials: bool, num_planes: int, serial: bo
     @ti.kernel
     def advance(s0: ti.i32, s1: ti.i32, n: ti.i32, nb: ti.i32, dt: float, first: ti.i32, substeps: ti.i32,
                 write_rows: ti.i32):
-        # Substeps s0 .. s1 - 1 in one launch: a serial loop over the time index whose body runs
-        # the four stages as inner loops, then the row of step s + 1 where it ends a frame
-        # (``first``: the run's step at local step 0). Each iteration writes step s + 1 (or step
-        # s's atomic sums), never what it read, so the adjoint walks the steps back. Taichi 1.7's
-        # reverse mode turns a loop around only below the top level (hence the one-pass outer
-        # loop) and keeps sibling loops in their written order, so the adjoint is compiled from
-        # the stages written last to first (a primal store is dropped from an adjoint kernel, so
-        # count, whose adjoint is nothing, is left out of it).
+        # Substeps s0 .. s1 - 1 in one launch (the forward only): a serial loop over the time index
+        # whose body runs the four stages as inner loops in substep's order, then the row of step
+        # s + 1 where it ends a frame (``first``: the run's step at local step 0). Its rows and
+        # tape equal substep's bit for bit; the backward runs substep's adjoint (rigid.diff.passes).
         ti.loop_config(serialize=True)
-        for _once in range(1):
-            for s in range(s0, s1):
-                if ti.static(not _compiling_adjoint()):
-                    if ti.static(materials):
-                        for i in range(n):
-                            count(s, i)
-                    for i, j in ti.ndrange(n, P):
-                        contacts(s, i, j, dt)
-                    for i in range(n):
-                        forces(s, i)
-                    for b in range(nb):
-                        update(s, b, dt)
-                if write_rows != 0 and (first + s + 1) % substeps == 0:
-                    for b in range(nb):
-                        row(s + 1, (first + s + 1) // substeps, b)
-                if ti.static(_compiling_adjoint()):
-                    for b in range(nb):
-                        update(s, b, dt)
-                    for i in range(n):
-                        forces(s, i)
-                    for i, j in ti.ndrange(n, P):
-                        contacts(s, i, j, dt)
+        for s in range(s0, s1):
+            if ti.static(materials):
+                for i in range(n):
+                    count(s, i)
+            for i, j in ti.ndrange(n, P):
+                contacts(s, i, j, dt)
+            for i in range(n):
+                forces(s, i)
+            for b in range(nb):
+                update(s, b, dt)
+            if write_rows != 0 and (first + s + 1) % substeps == 0:
+                for b in range(nb):
+                    row(s + 1, (first + s + 1) // substeps, b)
 
     @ti.kernel
     def rows(s: ti.i32, frame: ti.i32, nb: ti.i32):
         for b in range(nb):
             row(s, frame, b)
+
+    @ti.kernel
+    def clear(end: ti.i32, nb: ti.i32, n: ti.i32, mode: ti.i32):
+        """Zero, over steps 0 .. end and the particles in use (not the whole tape): mode 0 the
+        atomic sums (F, T, count) before a run, 1 every adjoint before a backward, 2 the sticking
+        springs of step 0 (a run's start)."""
+        zero = ti.Vector.zero(float, 3)
+        for s, b in ti.ndrange(end + 1, nb):
+            if mode == 0:
+                t.F[s, b], t.T[s, b], t.count[s, b] = zero, zero, 0
+            elif mode == 1:
+                t.F.grad[s, b], t.T.grad[s, b], t.x.grad[s, b], t.P.grad[s, b] = zero, zero, zero, zero
+                t.L.grad[s, b], t.w.grad[s, b], t.q.grad[s, b] = zero, zero, ti.Vector.zero(float, 4)
+        for s, i, j in ti.ndrange(end + 1, n, P):
+            if mode == 1:
+                t.fc.grad[s, i, j] = zero
+                if ti.static(materials):
+                    t.slip.grad[s, i, j] = zero
+            elif ti.static(materials):
+                if mode == 2 and s == 0:
+                    t.slip[s, i, j] = zero
 
     @ti.kernel
     def save(s: ti.i32, nb: ti.i32, n: ti.i32):
@@ -251,7 +251,7 @@ def build(tape, units, scheme: str, materials: bool, num_planes: int, serial: bo
         pass
 
     k = Kernels()
-    for name, fn in dict(inertia=inertia, invert=invert, init=init, substep=substep, advance=advance, rows=rows, save=save, restore=restore, save_grad=save_grad,
+    for name, fn in dict(inertia=inertia, invert=invert, init=init, clear=clear, substep=substep, advance=advance, rows=rows, save=save, restore=restore, save_grad=save_grad,
                          restore_grad=restore_grad).items():
         setattr(k, name, fn)
     return k

@@ -20,7 +20,8 @@ from ..errors import UserError
 from . import kernels as kernel_module
 from .tape import Tape
 
-CHECKPOINT_FRAMES = 16  # K: frames per segment (256 substeps at the default Δt)
+TAPE_BYTES = 256 * 2**20  # the tape's budget (state, forces and their adjoints), which sets K
+FRAMES_AT_LEAST = 64  # a tape holds at least this many frames (fewer where the budget says so)
 SERIAL_PARTICLES = 512  # up to this many (padded) particles a substep's loops run on one thread
 PLANES_AT_LEAST = 5  # the box's floor and four walls
 _TAPES: dict = {}
@@ -30,19 +31,36 @@ def _power_of_two(n: int, least: int) -> int:
     return max(least, 1 << (max(n, 1) - 1).bit_length())
 
 
+def step_bytes(bodies: int, particles: int, planes: int, materials: bool) -> int:
+    """A tape's bytes a step: per body x, P, L, ω, F, τ, q and their adjoints, the count; per
+    (particle, plane) the contact force and (materials) the sticking spring, with adjoints."""
+    return bodies * (2 * 22 * 8 + 4) + particles * planes * 3 * 8 * 2 * (2 if materials else 1)
+
+
+def segment_frames(frames: int, substeps: int, bodies: int, particles: int, planes: int, materials: bool) -> int:
+    """K: the whole run, as a power of two of at least FRAMES_AT_LEAST frames (so that runs of
+    other lengths share a tape), halved while the tape would pass TAPE_BYTES."""
+    k = _power_of_two(frames, FRAMES_AT_LEAST)
+    while k > 1 and (k * substeps + 1) * step_bytes(bodies, particles, planes, materials) > TAPE_BYTES:
+        k //= 2
+    return k
+
+
 class Pass:
-    def __init__(self, problem, units, frames: int, checkpoint_frames: int = CHECKPOINT_FRAMES):
+    def __init__(self, problem, units, frames: int, checkpoint_frames: int | None = None):
         self.problem, self.units, self.frames = problem, units, frames
         self.substeps = problem.substeps
+        B, N = problem.num_bodies, problem.num_particles
+        # Fields sized up (particles and frames to powers of two, at least the box's 5 planes: the
+        # extra ones are stand-ins no particle touches) and kept per process, so that scenes of one
+        # kind (law, scheme) and every call of a fit reuse one tape and its compiled kernels.
+        P = max(len(problem.planes), PLANES_AT_LEAST)
+        if checkpoint_frames is None:
+            checkpoint_frames = segment_frames(frames, self.substeps, _power_of_two(B, 1), _power_of_two(N, 64), P,
+                                               problem.materials)
         self.segment = max(1, min(checkpoint_frames, frames)) * self.substeps  # substeps per segment
         self.total = frames * self.substeps
         self.num_segments = -(-self.total // self.segment)
-        B, N = problem.num_bodies, problem.num_particles
-        # Fields sized up (a segment of K frames however short the run, particles and frames to
-        # powers of two, at least the box's 5 planes: the extra ones are stand-ins no particle
-        # touches) and kept per process, so that scenes of one kind (law, scheme) and every call
-        # of a fit reuse one tape and its compiled kernels.
-        P = max(len(problem.planes), PLANES_AT_LEAST)
         steps = max(1, checkpoint_frames) * self.substeps + 1
         key = (id(units), problem.scheme, problem.materials, P, steps, _power_of_two(B, 1),
                _power_of_two(N, 64), _power_of_two(frames + 1, 64), len(problem.table))
@@ -67,9 +85,7 @@ class Pass:
     def _run_segment(self, g: int, write_rows: bool) -> None:
         t, k, p = self.tape, self.k, self.problem
         B, N, dt = p.num_bodies, p.num_particles, p.dt
-        t.F.fill(0)
-        t.T.fill(0)
-        t.count.fill(0)
+        k.clear(self._length(g), B, N, 0)
         if self.serial:
             if write_rows and g == 0:
                 k.rows(0, 0, B)
@@ -109,7 +125,7 @@ class Pass:
         t, k, p = self.tape, self.k, self.problem
         B, N = p.num_bodies, p.num_particles
         t.I0.fill(0)
-        t.slip.fill(0)
+        k.clear(0, B, N, 2)
         k.inertia(N)
         k.invert(B)
         k.init(B)
@@ -152,23 +168,21 @@ class Pass:
                 self._run_segment(g, False)
             self.seconds["rerun"] += time.perf_counter() - start
             start = time.perf_counter()
-            t.clear_segment_grads()
             end = self._length(g)
+            k.clear(end, B, N, 1)
             if g < self.num_segments - 1:
                 for field, value in zip(self._checkpoint_fields(), self._carried):
                     field.from_numpy(value)
                 k.restore_grad(end, B, N)
-            if self.serial:
-                k.advance.grad(0, end, N, B, dt, g * self.segment, self.substeps, 1)
-                if g == 0:
-                    k.rows.grad(0, 0, B)
-            else:
-                for s in range(end, -1, -1):
-                    frame = self._frame_at(g, s)
-                    if frame is not None and (s > 0 or g == 0):
-                        k.rows.grad(s, frame, B)
-                    if s > 0:
-                        k.substep.grad(s - 1, N, B, dt)
+            # The adjoint a substep a launch: ``advance``'s own adjoint (one launch a segment) matched
+            # this to 1e-15 on a fresh tape but drifted by up to 1 % after runs at other values
+            # (Taichi 1.7), so the forward alone is fused.
+            for s in range(end, -1, -1):
+                frame = self._frame_at(g, s)
+                if frame is not None and (s > 0 or g == 0):
+                    k.rows.grad(s, frame, B)
+                if s > 0:
+                    k.substep.grad(s - 1, N, B, dt)
             k.save_grad(0, B, N)
             self._carried = [f.to_numpy() for f in self._checkpoint_fields()]
             self.seconds["adjoint"] += time.perf_counter() - start

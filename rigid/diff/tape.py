@@ -67,9 +67,6 @@ class Tape:
     PARAMETERS = ("m", "drag", "e_b", "mu_b", "x0", "q0", "v0", "w0", "e_p", "mu_p", "k", "c_world", "mu_world", "g")
     DERIVED = ("M", "I0", "I0inv")
 
-    def segment_fields(self):
-        return [getattr(self, n) for n in STATE] + [self.F, self.T, self.slip, self.fc]
-
     def row_fields(self):
         return dict(x=self.r_x, q=self.r_q, v=self.r_v, omega=self.r_w, P=self.r_P, L=self.r_L)
 
@@ -97,10 +94,6 @@ class Tape:
     def clear_parameter_grads(self) -> None:
         for name in self.PARAMETERS + self.DERIVED:
             getattr(self, name).grad.fill(0)
-
-    def clear_segment_grads(self) -> None:
-        for f in self.segment_fields():
-            f.grad.fill(0)
 
 
 def put(field, array, fill=0.0) -> None:
