@@ -12,6 +12,8 @@ step axis. What differs is only the schedule, so that Taichi can run each kernel
   and 4 (atomic sums), then drag;
 - ``update`` per body: explicit (TODO 5, 6, 7) or symplectic Euler from step s to s + 1;
 - ``rows``   the row of step s (x, q, v = P/M, ω, P, L) at frame f.
+``substep`` runs the four stages of one substep (its adjoint is the backward's); ``advance`` runs
+a segment's substeps and rows in one launch (the forward only).
 A contact is a thread of its own (the materials' damper is a table lookup whose adjoint is
 long: unrolled over the planes in one particle's thread it took over a minute to compile), and
 the per-particle sum over planes is unrolled (their count is a compile-time constant), so no
@@ -31,8 +33,7 @@ from ..engine.rotation import quaternion_to_matrix
 def build(tape, units, scheme: str, materials: bool, num_planes: int, serial: bool = True):
     """The pass's kernels (a namespace) over ``tape``'s fields for these TODO units and scheme;
     ``serial``: run the substep's loops on the launching thread (at tens of particles handing a
-    loop to the thread pool costs more than the loop: 20 frames' forward 18 -> 12 ms, backward
-    62 -> 42 ms on 2 cores)."""
+    loop to the thread pool costs more than the loop)."""
     u, t = units, tape
     P = num_planes
 

@@ -1,13 +1,14 @@
 """The forward and backward passes, segment by segment, with checkpoints.
 
-The run of ``frames`` frames is cut into segments of K frames (``checkpoint_frames``). The
-forward pass keeps each segment's starting state (a checkpoint: one step of state, on the
-host) and the rows; the backward pass walks the segments from the last: it restores the
-segment's checkpoint, runs the segment forward again (the last one is still on the tape),
-then runs each kernel's adjoint (Taichi's ``kernel.grad``) in reverse order, and carries the
-adjoint of the segment's first state into the previous one. Memory is one segment of state
-(rigid.diff.tape) whatever the horizon; the cost is one more forward run of every segment but
-the last.
+The run of ``frames`` frames is cut into segments of K frames (``checkpoint_frames``; by default
+the whole run where its tape fits TAPE_BYTES, ``segment_frames``). The forward pass runs a
+segment in one launch (``advance``) and keeps each segment's starting state (a checkpoint: one
+step of state, on the host) and the rows; the backward pass walks the segments from the last: it
+restores the segment's checkpoint, runs the segment forward again (the last one is still on the
+tape), then runs the adjoints (Taichi's ``kernel.grad``) of the rows and substeps in reverse
+order, one launch a substep, and carries the adjoint of the segment's first state into the
+previous one. Memory is one segment of state (rigid.diff.tape) whatever the horizon; the cost is
+one more forward run of every segment but the last (none when the run is one segment).
 """
 from __future__ import annotations
 

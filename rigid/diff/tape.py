@@ -2,10 +2,10 @@
 
 Taichi's reverse mode differentiates a kernel only if it never overwrites what it read (the
 global data access rule), so the state is time-indexed: substep s reads step s and writes step
-s + 1 (as DiffTaichi's rigid_body.py keeps x[t], v[t]). Only one segment of K frames is held
-(``steps`` = K · substeps + 1); the pass keeps a checkpoint at each segment's start on the
-host and runs a segment forward again before its backward (rigid.diff.passes), so memory is
-bounded by K, not by the horizon. Shapes (f the run's float; B bodies, N particles, P planes):
+s + 1 (as DiffTaichi's rigid_body.py keeps x[t], v[t]). One segment of K frames is held
+(``steps`` = K · substeps + 1: the whole run where it fits the pass's budget); the pass keeps a
+checkpoint at each segment's start on the host and runs a segment forward again before its
+backward (rigid.diff.passes), so memory is bounded by K, not by the horizon. Shapes (f the run's float; B bodies, N particles, P planes):
 
   x, P, L, w    [steps, B] vec3   centre of mass (m), momenta (kg m/s, kg m²/s), ω (rad/s), world
   q             [steps, B] vec4   orientation, scalar first
