@@ -15,7 +15,6 @@ from __future__ import annotations
 import time
 
 import numpy as np
-import taichi as ti
 
 from ..errors import UserError
 from . import kernels as kernel_module
@@ -84,7 +83,7 @@ class Pass:
         return step // self.substeps if step % self.substeps == 0 else None
 
     def _run_segment(self, g: int, write_rows: bool) -> None:
-        t, k, p = self.tape, self.k, self.problem
+        k, p = self.k, self.problem
         B, N, dt = p.num_bodies, p.num_particles, p.dt
         k.clear(self._length(g), B, N, 0)
         if self.serial:
@@ -97,7 +96,7 @@ class Pass:
             self._check_apart(g)
 
     def _run_substeps(self, g: int, write_rows: bool) -> None:
-        t, k, p = self.tape, self.k, self.problem
+        k, p = self.k, self.problem
         B, N, dt = p.num_bodies, p.num_particles, p.dt
         for s in range(self._length(g)):
             if write_rows and (s > 0 or g == 0) and self._frame_at(g, s) is not None:
