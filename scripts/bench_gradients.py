@@ -1,7 +1,7 @@
 """Cost of a gradient against its forward run, and the tape's memory (docs/gradients.md,
 report/gradients.md). Prints; asserts nothing.
 
-    .venv/bin/python scripts/bench_gradients.py [--frames 120] [--checkpoint 16]
+    .venv/bin/python scripts/bench_gradients.py [--frames 120] [--checkpoint K] [--repeats 7] [--per-substep]
 """
 import argparse
 import sys
@@ -20,14 +20,18 @@ SCENE = dict(mesh="sphere.obj", scale=0.3, initial_velocity=(0.8, -1.0, 0.4), in
              restitution=0.6, friction=0.3)
 
 
-def best(fn, repeats=3):
-    fn()  # compiles
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
+def median_times(fns, repeats):
+    """Each of ``fns`` run once to compile, then ``repeats`` times in turn (so that a busy machine
+    slows all alike): the median seconds of each."""
+    for fn in fns:
         fn()
-        times.append(time.perf_counter() - start)
-    return min(times)
+    times = [[] for _ in fns]
+    for _ in range(repeats):
+        for fn, out in zip(fns, times):
+            start = time.perf_counter()
+            fn()
+            out.append(time.perf_counter() - start)
+    return [float(np.median(t)) for t in times]
 
 
 def tape_bytes(tape) -> int:
@@ -46,22 +50,30 @@ def tape_bytes(tape) -> int:
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--frames", type=int, default=120)
-    parser.add_argument("--checkpoint", type=int, default=16)
+    parser.add_argument("--checkpoint", type=int, default=None, help="frames a segment (default: the pass's)")
+    parser.add_argument("--repeats", type=int, default=7)
+    parser.add_argument("--per-substep", action="store_true",
+                        help="one launch a substep (the schedule for scenes of many particles)")
     args = parser.parse_args()
     rigid.init("cpu", fp64=True)
     frames = args.frames
-    engine = best(lambda: rigid.Simulator(rigid.scene(**SCENE)).advance(frames))
     problem, _n, _f, units = prepare(SCENE, frames, ["restitution"])
-    run = Pass(problem, units, frames, args.checkpoint)
+    run = Pass(problem, units, frames, **({} if args.checkpoint is None else dict(checkpoint_frames=args.checkpoint)))
+    run.serial = run.serial and not args.per_substep
     cot = {"x": np.ones((frames + 1, 1, 3))}
-    forward = best(run.forward)
-    gradient = best(lambda: (run.forward(), run.backward(cot)))
+    engine, forward, gradient = median_times([lambda: rigid.Simulator(rigid.scene(**SCENE)).advance(frames),
+                                              run.forward, lambda: (run.forward(), run.backward(cot))],
+                                             args.repeats)
+    schedule = "one launch a substep" if not run.serial else "one launch a segment"
     print(f"{frames} frames ({frames * problem.substeps} substeps), 1 body of {problem.num_particles} particles, "
-          f"{len(problem.planes)} planes, float64, checkpoint every {args.checkpoint} frames")
+          f"{len(problem.planes)} planes, float64, {run.segment // problem.substeps} frames a segment "
+          f"({run.num_segments} segments), {schedule}; medians of {args.repeats}")
     print(f"engine forward (rigid.Simulator.advance, incl. build): {engine * 1e3:.1f} ms")
     print(f"differentiable forward:                             {forward * 1e3:.1f} ms")
-    print(f"gradient (forward + backward, segments re-run):     {gradient * 1e3:.1f} ms "
+    print(f"gradient (forward + backward):                      {gradient * 1e3:.1f} ms "
           f"= {gradient / forward:.2f}x its forward, {gradient / engine:.2f}x the engine's")
+    print(f"  of the backward: re-runs {run.seconds['rerun'] * 1e3:.1f} ms, adjoints {run.seconds['adjoint'] * 1e3:.1f} ms"
+          f" (last call)")
     print(f"tape memory (fields and their adjoints):            {tape_bytes(run.tape) / 2**20:.2f} MiB "
           f"for {run.segment} substeps a segment; checkpoints on the host: "
           f"{sum(a.nbytes for c in run.checkpoints for a in c) / 2**10:.1f} KiB")

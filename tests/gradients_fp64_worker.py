@@ -95,6 +95,20 @@ def main() -> None:
     g = rigid.gradient(scene, frames, cot, ["collision_stiffness"])
     out["resting"] = dict(k=float(g["collision_stiffness"]),
                           fd_k=central(scene, frames, cot, "collision_stiffness", h=1e-2))
+    # Orientation: a tilted box dropped on the floor (the plain law, as the resting box). The scene
+    # normalises the key, so the gradient is tangent: along q it is zero, and along a tangent d it
+    # is the slope of the loss over orientation = q + h d (normalised by the config).
+    q = np.array([0.95, 0.2, 0.1, 0.05]) / np.linalg.norm([0.95, 0.2, 0.1, 0.05])
+    scene = {**box, "position": (0.0, -0.5, 0.0), "initial_velocity": (0.5, 0.0, 0.0), "orientation": tuple(q)}
+    rng = np.random.default_rng(3)
+    cot = {"x": rng.normal(size=(frames + 1, 1, 3)), "q": rng.normal(size=(frames + 1, 1, 4))}
+    g = rigid.gradient(scene, frames, cot, ["orientation"])["orientation"]
+    tangents = np.linalg.svd(q[None, :])[2][1:3]  # two unit directions orthogonal to q
+    fd = []
+    for d in tangents:
+        runs = [loss(advance({**scene, "orientation": tuple(q + sign * H * d)}, frames), cot) for sign in (1, -1)]
+        fd.append((runs[0] - runs[1]) / (2 * H))
+    out["orientation"] = dict(grad=g.tolist(), along_q=float(g @ q), tangents=[float(g @ d) for d in tangents], fd=fd)
     seconds["gradients"] = time.perf_counter() - start
 
     # The time-of-impact problem: the ball's vertical speed after its bounce against the throw's

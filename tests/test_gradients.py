@@ -56,6 +56,12 @@ def test_sliding_box_friction_and_resting_box_stiffness_match_central_difference
     assert results["resting"]["k"] > 0  # stiffer, less sag
 
 
+def test_orientation_gradient_is_tangent_and_matches_central_differences_along_tangents(results):
+    r = results["orientation"]
+    assert abs(r["along_q"]) < 1e-12 * np.linalg.norm(r["grad"])  # the key is normalised: no radial part
+    assert max(rel(r["tangents"], r["fd"])) < 0.01, r
+
+
 def test_time_of_impact_the_gradient_is_the_local_slope_not_the_slope_across_contact_events(results):
     for name in ("plain", "materials"):
         r = results[f"toi_{name}"]

@@ -44,6 +44,8 @@ def _set(problem, name: str, value) -> None:
     field = {"position": "x0", "orientation": "q0", "initial_velocity": "v0", "initial_angular_velocity": "w0",
              "particle_mass": "m", "drag": "drag", "restitution": "e_b", "friction": "mu_b",
              "collision_stiffness": "k", "velocity_damping_stiffness": "c_world", "gravity": "g"}[name]
+    if name == "orientation":  # the scene normalises the key (rigid.config), the pass does too
+        value = np.asarray(value, np.float64) / np.linalg.norm(value)
     if scope.WRT_KEYS[name] == "world":
         v[field] = np.asarray(value, np.float64).reshape(np.shape(v[field]))
         return
@@ -104,6 +106,8 @@ def fit(scene, observed, wrt, frames: int | None = None, keys=("x",), weights=No
         cot = {key: w[key] * (rows[key] - rows_obs[key]) for key in rows_obs}
         loss = 0.5 * float(sum((w[key] * (rows[key] - rows_obs[key]) ** 2).sum() for key in rows_obs))
         grads = gather(problem, run.backward(cot), names)
+        if "orientation" in grads:  # d(q / |q|)/dq = (I - q̂ q̂ᵀ) / |q|; gather has projected
+            grads["orientation"] = grads["orientation"] / np.linalg.norm(values["orientation"])
         evaluations.append(loss)
         return loss, np.concatenate([np.asarray(grads[n]).reshape(-1) for n in names]) * scale
 

@@ -10,6 +10,8 @@ and the adjoints of its parameter fields are gathered into the scene's keys:
   bodies (and, for restitution and friction, over the planes that take the top-level value,
   as a change of the top-level key changes them all); with [[body]] tables it has a body axis
   (B, ...) instead: each body's own value (a plane's material is then held fixed).
+- orientation's gradient is tangent to the unit sphere (orthogonal to the quaternion): the scene
+  normalises the key, so a change along q changes nothing (``tangent``).
 """
 from __future__ import annotations
 
@@ -83,6 +85,8 @@ def gather(problem, grads: dict, names) -> dict:
             out[name] = g.reshape(np.shape(problem.values[FIELD_OF[name]]))
             continue
         g = g[:B]
+        if name == "orientation":
+            g = tangent(g, problem.values["q0"][:B])
         if per_body:
             out[name] = g
             continue
@@ -93,6 +97,14 @@ def gather(problem, grads: dict, names) -> dict:
             total = total + np.asarray(grads[field])[:planes][problem.plane_from_top[:, column]].sum()
         out[name] = total
     return out
+
+
+def tangent(g, q):
+    """∂L/∂q with its part along q removed, per body: the scene's orientation is normalised (the
+    config divides the key by its norm), so L depends on the key only through q / |q| and its
+    gradient at a unit q is (I − q qᵀ) ∂L/∂q (for a key of norm r, that divided by r)."""
+    q = np.asarray(q, np.float64) / np.linalg.norm(q, axis=-1, keepdims=True)
+    return g - (g * q).sum(axis=-1, keepdims=True) * q
 
 
 def gradient(scene, frames: int, cotangents: dict, wrt, units=None, checkpoint_frames: int | None = None) -> dict:

@@ -12,6 +12,8 @@ step axis. What differs is only the schedule, so that Taichi can run each kernel
   and 4 (atomic sums), then drag;
 - ``update`` per body: explicit (TODO 5, 6, 7) or symplectic Euler from step s to s + 1;
 - ``rows``   the row of step s (x, q, v = P/M, ω, P, L) at frame f.
+``substep`` runs the four stages of one substep (its adjoint is the backward's); ``advance`` runs
+a segment's substeps and rows in one launch (the forward only).
 A contact is a thread of its own (the materials' damper is a table lookup whose adjoint is
 long: unrolled over the planes in one particle's thread it took over a minute to compile), and
 the per-particle sum over planes is unrolled (their count is a compile-time constant), so no
@@ -31,8 +33,7 @@ from ..engine.rotation import quaternion_to_matrix
 def build(tape, units, scheme: str, materials: bool, num_planes: int, serial: bool = True):
     """The pass's kernels (a namespace) over ``tape``'s fields for these TODO units and scheme;
     ``serial``: run the substep's loops on the launching thread (at tens of particles handing a
-    loop to the thread pool costs more than the loop: 20 frames' forward 18 -> 12 ms, backward
-    62 -> 42 ms on 2 cores)."""
+    loop to the thread pool costs more than the loop)."""
     u, t = units, tape
     P = num_planes
 
@@ -158,11 +159,58 @@ def build(tape, units, scheme: str, materials: bool, num_planes: int, serial: bo
         for b in range(nb):
             update(s, b, dt)
 
+    @ti.func
+    def row(s, frame, b):
+        t.r_x[frame, b], t.r_q[frame, b], t.r_P[frame, b] = t.x[s, b], t.q[s, b], t.P[s, b]
+        t.r_L[frame, b], t.r_w[frame, b], t.r_v[frame, b] = t.L[s, b], t.w[s, b], t.P[s, b] / t.M[b]
+
+    @ti.kernel
+    def advance(s0: ti.i32, s1: ti.i32, n: ti.i32, nb: ti.i32, dt: float, first: ti.i32, substeps: ti.i32,
+                write_rows: ti.i32):
+        # Substeps s0 .. s1 - 1 in one launch (the forward only): a serial loop over the time index
+        # whose body runs the four stages as inner loops in substep's order, then the row of step
+        # s + 1 where it ends a frame (``first``: the run's step at local step 0). Its rows and
+        # tape equal substep's bit for bit; the backward runs substep's adjoint (rigid.diff.passes).
+        ti.loop_config(serialize=True)
+        for s in range(s0, s1):
+            if ti.static(materials):
+                for i in range(n):
+                    count(s, i)
+            for i, j in ti.ndrange(n, P):
+                contacts(s, i, j, dt)
+            for i in range(n):
+                forces(s, i)
+            for b in range(nb):
+                update(s, b, dt)
+            if write_rows != 0 and (first + s + 1) % substeps == 0:
+                for b in range(nb):
+                    row(s + 1, (first + s + 1) // substeps, b)
+
     @ti.kernel
     def rows(s: ti.i32, frame: ti.i32, nb: ti.i32):
         for b in range(nb):
-            t.r_x[frame, b], t.r_q[frame, b], t.r_P[frame, b] = t.x[s, b], t.q[s, b], t.P[s, b]
-            t.r_L[frame, b], t.r_w[frame, b], t.r_v[frame, b] = t.L[s, b], t.w[s, b], t.P[s, b] / t.M[b]
+            row(s, frame, b)
+
+    @ti.kernel
+    def clear(end: ti.i32, nb: ti.i32, n: ti.i32, mode: ti.i32):
+        """Zero, over steps 0 .. end and the particles in use (not the whole tape): mode 0 the
+        atomic sums (F, T, count) before a run, 1 every adjoint before a backward, 2 the sticking
+        springs of step 0 (a run's start)."""
+        zero = ti.Vector.zero(float, 3)
+        for s, b in ti.ndrange(end + 1, nb):
+            if mode == 0:
+                t.F[s, b], t.T[s, b], t.count[s, b] = zero, zero, 0
+            elif mode == 1:
+                t.F.grad[s, b], t.T.grad[s, b], t.x.grad[s, b], t.P.grad[s, b] = zero, zero, zero, zero
+                t.L.grad[s, b], t.w.grad[s, b], t.q.grad[s, b] = zero, zero, ti.Vector.zero(float, 4)
+        for s, i, j in ti.ndrange(end + 1, n, P):
+            if mode == 1:
+                t.fc.grad[s, i, j] = zero
+                if ti.static(materials):
+                    t.slip.grad[s, i, j] = zero
+            elif ti.static(materials):
+                if mode == 2 and s == 0:
+                    t.slip[s, i, j] = zero
 
     @ti.kernel
     def save(s: ti.i32, nb: ti.i32, n: ti.i32):
@@ -204,7 +252,7 @@ def build(tape, units, scheme: str, materials: bool, num_planes: int, serial: bo
         pass
 
     k = Kernels()
-    for name, fn in dict(inertia=inertia, invert=invert, init=init, substep=substep, rows=rows, save=save, restore=restore, save_grad=save_grad,
+    for name, fn in dict(inertia=inertia, invert=invert, init=init, clear=clear, substep=substep, advance=advance, rows=rows, save=save, restore=restore, save_grad=save_grad,
                          restore_grad=restore_grad).items():
         setattr(k, name, fn)
     return k

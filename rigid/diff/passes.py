@@ -1,24 +1,27 @@
 """The forward and backward passes, segment by segment, with checkpoints.
 
-The run of ``frames`` frames is cut into segments of K frames (``checkpoint_frames``). The
-forward pass keeps each segment's starting state (a checkpoint: one step of state, on the
-host) and the rows; the backward pass walks the segments from the last: it restores the
-segment's checkpoint, runs the segment forward again (the last one is still on the tape),
-then runs each kernel's adjoint (Taichi's ``kernel.grad``) in reverse order, and carries the
-adjoint of the segment's first state into the previous one. Memory is one segment of state
-(rigid.diff.tape) whatever the horizon; the cost is one more forward run of every segment but
-the last.
+The run of ``frames`` frames is cut into segments of K frames (``checkpoint_frames``; by default
+the whole run where its tape fits TAPE_BYTES, ``segment_frames``). The forward pass runs a
+segment in one launch (``advance``) and keeps each segment's starting state (a checkpoint: one
+step of state, on the host) and the rows; the backward pass walks the segments from the last: it
+restores the segment's checkpoint, runs the segment forward again (the last one is still on the
+tape), then runs the adjoints (Taichi's ``kernel.grad``) of the rows and substeps in reverse
+order, one launch a substep, and carries the adjoint of the segment's first state into the
+previous one. Memory is one segment of state (rigid.diff.tape) whatever the horizon; the cost is
+one more forward run of every segment but the last (none when the run is one segment).
 """
 from __future__ import annotations
 
+import time
+
 import numpy as np
-import taichi as ti
 
 from ..errors import UserError
 from . import kernels as kernel_module
 from .tape import Tape
 
-CHECKPOINT_FRAMES = 16  # K: frames per segment (256 substeps at the default Δt)
+TAPE_BYTES = 256 * 2**20  # the tape's budget (state, forces and their adjoints), which sets K
+FRAMES_AT_LEAST = 64  # a tape holds at least this many frames (fewer where the budget says so)
 SERIAL_PARTICLES = 512  # up to this many (padded) particles a substep's loops run on one thread
 PLANES_AT_LEAST = 5  # the box's floor and four walls
 _TAPES: dict = {}
@@ -28,19 +31,36 @@ def _power_of_two(n: int, least: int) -> int:
     return max(least, 1 << (max(n, 1) - 1).bit_length())
 
 
+def step_bytes(bodies: int, particles: int, planes: int, materials: bool) -> int:
+    """A tape's bytes a step: per body x, P, L, ω, F, τ, q and their adjoints, the count; per
+    (particle, plane) the contact force and (materials) the sticking spring, with adjoints."""
+    return bodies * (2 * 22 * 8 + 4) + particles * planes * 3 * 8 * 2 * (2 if materials else 1)
+
+
+def segment_frames(frames: int, substeps: int, bodies: int, particles: int, planes: int, materials: bool) -> int:
+    """K: the whole run, as a power of two of at least FRAMES_AT_LEAST frames (so that runs of
+    other lengths share a tape), halved while the tape would pass TAPE_BYTES."""
+    k = _power_of_two(frames, FRAMES_AT_LEAST)
+    while k > 1 and (k * substeps + 1) * step_bytes(bodies, particles, planes, materials) > TAPE_BYTES:
+        k //= 2
+    return k
+
+
 class Pass:
-    def __init__(self, problem, units, frames: int, checkpoint_frames: int = CHECKPOINT_FRAMES):
+    def __init__(self, problem, units, frames: int, checkpoint_frames: int | None = None):
         self.problem, self.units, self.frames = problem, units, frames
         self.substeps = problem.substeps
+        B, N = problem.num_bodies, problem.num_particles
+        # Fields sized up (particles and frames to powers of two, at least the box's 5 planes: the
+        # extra ones are stand-ins no particle touches) and kept per process, so that scenes of one
+        # kind (law, scheme) and every call of a fit reuse one tape and its compiled kernels.
+        P = max(len(problem.planes), PLANES_AT_LEAST)
+        if checkpoint_frames is None:
+            checkpoint_frames = segment_frames(frames, self.substeps, _power_of_two(B, 1), _power_of_two(N, 64), P,
+                                               problem.materials)
         self.segment = max(1, min(checkpoint_frames, frames)) * self.substeps  # substeps per segment
         self.total = frames * self.substeps
         self.num_segments = -(-self.total // self.segment)
-        B, N = problem.num_bodies, problem.num_particles
-        # Fields sized up (a segment of K frames however short the run, particles and frames to
-        # powers of two, at least the box's 5 planes: the extra ones are stand-ins no particle
-        # touches) and kept per process, so that scenes of one kind (law, scheme) and every call
-        # of a fit reuse one tape and its compiled kernels.
-        P = max(len(problem.planes), PLANES_AT_LEAST)
         steps = max(1, checkpoint_frames) * self.substeps + 1
         key = (id(units), problem.scheme, problem.materials, P, steps, _power_of_two(B, 1),
                _power_of_two(N, 64), _power_of_two(frames + 1, 64), len(problem.table))
@@ -49,8 +69,10 @@ class Pass:
             serial = key[6] <= SERIAL_PARTICLES
             _TAPES[key] = (tape, kernel_module.build(tape, units, problem.scheme, problem.materials, P, serial))
         self.tape, self.k = _TAPES[key]
+        self.serial = key[6] <= SERIAL_PARTICLES
         self.tape.load(problem)
         self.checkpoints: list = []
+        self.seconds = dict(rerun=0.0, adjoint=0.0)  # of the last backward
 
     def _length(self, g: int) -> int:
         return min(self.segment, self.total - g * self.segment)
@@ -61,11 +83,21 @@ class Pass:
         return step // self.substeps if step % self.substeps == 0 else None
 
     def _run_segment(self, g: int, write_rows: bool) -> None:
-        t, k, p = self.tape, self.k, self.problem
+        k, p = self.k, self.problem
         B, N, dt = p.num_bodies, p.num_particles, p.dt
-        t.F.fill(0)
-        t.T.fill(0)
-        t.count.fill(0)
+        k.clear(self._length(g), B, N, 0)
+        if self.serial:
+            if write_rows and g == 0:
+                k.rows(0, 0, B)
+            k.advance(0, self._length(g), N, B, dt, g * self.segment, self.substeps, int(write_rows))
+        else:
+            self._run_substeps(g, write_rows)
+        if B > 1:
+            self._check_apart(g)
+
+    def _run_substeps(self, g: int, write_rows: bool) -> None:
+        k, p = self.k, self.problem
+        B, N, dt = p.num_bodies, p.num_particles, p.dt
         for s in range(self._length(g)):
             if write_rows and (s > 0 or g == 0) and self._frame_at(g, s) is not None:
                 k.rows(s, self._frame_at(g, s), B)
@@ -73,8 +105,6 @@ class Pass:
         end = self._length(g)
         if write_rows:
             k.rows(end, self._frame_at(g, end), B)
-        if B > 1:
-            self._check_apart(g)
 
     def _check_apart(self, g: int) -> None:
         """Refuse a run where two bodies come within reach of each other (their bounding spheres,
@@ -95,7 +125,7 @@ class Pass:
         t, k, p = self.tape, self.k, self.problem
         B, N = p.num_bodies, p.num_particles
         t.I0.fill(0)
-        t.slip.fill(0)
+        k.clear(0, B, N, 2)
         k.inertia(N)
         k.invert(B)
         k.init(B)
@@ -128,18 +158,25 @@ class Pass:
             if key in cotangents:
                 seed[:self.frames + 1, :B] = cotangents[key]
             f.grad.from_numpy(seed)
+        self.seconds = dict(rerun=0.0, adjoint=0.0)
         for g in reversed(range(self.num_segments)):
+            start = time.perf_counter()
             if g < self.num_segments - 1:  # the last segment is still on the tape
                 for field, value in zip(self._checkpoint_fields(), self.checkpoints[g]):
                     field.from_numpy(value)
                 k.restore(0, B, N)
                 self._run_segment(g, False)
-            t.clear_segment_grads()
+            self.seconds["rerun"] += time.perf_counter() - start
+            start = time.perf_counter()
             end = self._length(g)
+            k.clear(end, B, N, 1)
             if g < self.num_segments - 1:
                 for field, value in zip(self._checkpoint_fields(), self._carried):
                     field.from_numpy(value)
                 k.restore_grad(end, B, N)
+            # The adjoint a substep a launch: ``advance``'s own adjoint (one launch a segment) matched
+            # this to 1e-15 on a fresh tape but drifted by up to 1 % after runs at other values
+            # (Taichi 1.7), so the forward alone is fused.
             for s in range(end, -1, -1):
                 frame = self._frame_at(g, s)
                 if frame is not None and (s > 0 or g == 0):
@@ -148,6 +185,7 @@ class Pass:
                     k.substep.grad(s - 1, N, B, dt)
             k.save_grad(0, B, N)
             self._carried = [f.to_numpy() for f in self._checkpoint_fields()]
+            self.seconds["adjoint"] += time.perf_counter() - start
         k.init.grad(B)
         k.invert.grad(B)
         k.inertia.grad(N)

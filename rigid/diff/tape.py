@@ -2,10 +2,10 @@
 
 Taichi's reverse mode differentiates a kernel only if it never overwrites what it read (the
 global data access rule), so the state is time-indexed: substep s reads step s and writes step
-s + 1 (as DiffTaichi's rigid_body.py keeps x[t], v[t]). Only one segment of K frames is held
-(``steps`` = K · substeps + 1); the pass keeps a checkpoint at each segment's start on the
-host and runs a segment forward again before its backward (rigid.diff.passes), so memory is
-bounded by K, not by the horizon. Shapes (f the run's float; B bodies, N particles, P planes):
+s + 1 (as DiffTaichi's rigid_body.py keeps x[t], v[t]). One segment of K frames is held
+(``steps`` = K · substeps + 1: the whole run where it fits the pass's budget); the pass keeps a
+checkpoint at each segment's start on the host and runs a segment forward again before its
+backward (rigid.diff.passes), so memory is bounded by K, not by the horizon. Shapes (f the run's float; B bodies, N particles, P planes):
 
   x, P, L, w    [steps, B] vec3   centre of mass (m), momenta (kg m/s, kg m²/s), ω (rad/s), world
   q             [steps, B] vec4   orientation, scalar first
@@ -67,9 +67,6 @@ class Tape:
     PARAMETERS = ("m", "drag", "e_b", "mu_b", "x0", "q0", "v0", "w0", "e_p", "mu_p", "k", "c_world", "mu_world", "g")
     DERIVED = ("M", "I0", "I0inv")
 
-    def segment_fields(self):
-        return [getattr(self, n) for n in STATE] + [self.F, self.T, self.slip, self.fc]
-
     def row_fields(self):
         return dict(x=self.r_x, q=self.r_q, v=self.r_v, omega=self.r_w, P=self.r_P, L=self.r_L)
 
@@ -97,10 +94,6 @@ class Tape:
     def clear_parameter_grads(self) -> None:
         for name in self.PARAMETERS + self.DERIVED:
             getattr(self, name).grad.fill(0)
-
-    def clear_segment_grads(self) -> None:
-        for f in self.segment_fields():
-            f.grad.fill(0)
 
 
 def put(field, array, fill=0.0) -> None:
