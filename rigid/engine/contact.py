@@ -64,6 +64,26 @@ def plane_force(p, v, radius, plane, k, kd, mu):
 
 
 @ti.func
+def sticking_friction(slip, n, vt, step, k, ct, mu, fn):
+    """Coulomb friction that sticks, for a contact of normal n carrying normal force fn: a
+    tangential spring k whose stretch ``slip`` (world vec3, zero when the contact began) is
+    projected onto the current tangent plane (the contact turns) and grows by the tangential
+    velocity vt of the moving side over ``step``, damped by ct, slipping at μ fn (then
+    re-anchored where the spring alone holds μ fn). Returns (the tangential force on the side
+    moving at vt, the new stretch)."""
+    s = slip - n.dot(slip) * n + step * vt
+    ft = -k * s - ct * vt
+    cap = mu * fn
+    size = ft.norm()
+    if size > cap:
+        ft = (cap / size) * ft  # size > cap >= 0
+        s = ti.Vector.zero(float, 3)
+        if k > 0:
+            s = (-1.0 / k) * ft
+    return ft, s
+
+
+@ti.func
 def plane_force_sticking(p, v, radius, plane, k, c, ct, mu, slip, step):
     """The material contact with a plane (rigid.engine.materials): the normal law with the
     contact's own damper c, and Coulomb friction with sticking: a tangential spring k whose
@@ -79,18 +99,8 @@ def plane_force_sticking(p, v, radius, plane, k, c, ct, mu, slip, step):
         touching = 1
         vn = normal.dot(v)
         fn = ti.max(k * depth - c * vn, 0.0)
-        vt = v - vn * normal
-        s = slip - normal.dot(slip) * normal + step * vt
-        ft = -k * s - ct * vt
-        cap = mu * fn
-        size = ft.norm()
-        if size > cap:
-            ft = (cap / size) * ft  # size > cap >= 0
-            s = ti.Vector.zero(float, 3)
-            if k > 0:
-                s = (-1.0 / k) * ft
+        ft, new_slip = sticking_friction(slip, normal, v - vn * normal, step, k, ct, mu, fn)
         force = fn * normal + ft
-        new_slip = s
     return force, new_slip, touching
 
 
@@ -155,18 +165,9 @@ def pair_contact_sticking(p_i, p_j, r_a, r_b, x_a, v_a, w_a, x_b, v_b, w_b, k, c
         v_rel = (v_b + w_b.cross(point - x_b)) - (v_a + w_a.cross(point - x_a))
         vn = v_rel.dot(n)
         fn = ti.max(k * (reach - dist) - c * vn, 0.0)
-        vt = v_rel - vn * n
-        s = slip - n.dot(slip) * n + step * vt
-        ft = -k * s - ct * vt  # on j: the spring pulls it back to where the contact began
-        cap = mu * fn
-        size = ft.norm()
-        if size > cap:
-            ft = (cap / size) * ft  # size > cap >= 0
-            s = ti.Vector.zero(float, 3)
-            if k > 0:
-                s = (-1.0 / k) * ft
+        # On j: the spring pulls it back to where the contact began; i gets the opposite.
+        ft, new_slip = sticking_friction(slip, n, v_rel - vn * n, step, k, ct, mu, fn)
         force = -fn * n - ft
-        new_slip = s
     return force, point, new_slip
 
 
