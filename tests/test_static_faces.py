@@ -7,7 +7,9 @@
   g (sin θ − μ cos θ) within 5 % (Coulomb, a flat face on a flat face), its centre within 2 mm
   of the height the faces touch at all the way (no hop over the static's particles), the
   static's particles out of the pair stage (the box has no pair contact);
-- with μ = 0.7 > tan 30° it holds: < 2 mm in 2 s.
+- with μ = 0.7 > tan 30° it holds: < 2 mm in 2 s;
+- the start's overlap check measures a body against the faces: sunk 1 cm is refused, 0.1 mm
+  clear at the face's edge is not.
 """
 import math
 from types import SimpleNamespace
@@ -54,13 +56,13 @@ def _taichi(units):
     """One Taichi runtime for the module (conftest)."""
 
 
-def _on_tilted_box(mu, uphill):
+def _on_tilted_box(mu, uphill, clear=1e-4):
     """A 0.2 box (corner spheres of radius 0.02) on the top face of a 0.6 [[static]] box turned
-    30° about z, ``uphill`` of the face's middle, 0.1 mm clear of it."""
+    30° about z, ``uphill`` of the face's middle, ``clear`` of it."""
     from rigid.config import SimConfig
     from rigid.engine.simulator import Simulator
 
-    position = (TOUCH + 1e-4) * NORMAL - uphill * DOWN
+    position = (TOUCH + clear) * NORMAL - uphill * DOWN
     return Simulator(SimConfig(mesh=BOX, scale=0.2, particle_radius=0.02, position=tuple(position), orientation=TURN,
                                friction=mu, restitution=0.3, walls=False, collision_stiffness=1e5, particle_mass=0.1,
                                dt=2e-4, statics=(dict(mesh=BOX, scale=0.6, orientation=TURN),)).validate())
@@ -99,3 +101,14 @@ def test_box_holds_on_a_tilted_static_box_face():
     moved = np.linalg.norm(sim.snapshot()["x"][0] - a)
     print(f"tilted static box, mu 0.7: moved {moved * 1e3:.4f} mm in 2 s")
     assert moved < 2e-3
+
+
+def test_a_box_sunk_into_the_faces_is_refused_and_one_clear_of_them_is_not():
+    """The start's check measures a body's spheres against the faces the contact uses: 1 cm into
+    the top face is refused; 0.1 mm clear near the face's edge runs (the static's particle spheres
+    near that edge reach past the face, and refused it)."""
+    from rigid.errors import UserError
+
+    with pytest.raises(UserError, match=r"particle spheres inside the static's faces"):
+        _on_tilted_box(0.3, 0.0, -0.01)
+    assert _on_tilted_box(0.3, 0.2).num_bodies == 2

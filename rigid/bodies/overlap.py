@@ -50,12 +50,14 @@ def check_start(config, bodies, faces: dict | None = None) -> None:
             touch = bodies[mover].radius
             planes = faces[face][0]
             depth = float(np.max(touch - np.max(points[mover] @ planes[:, :3].T - planes[:, 3], axis=1)))
+            what = f"{names[mover].split(' (')[0]}'s particle spheres inside the static's faces"
+            allowed = TOLERANCE * max(touch, 1e-3)
         else:
             depth = _deepest(points[a], points[b], touch)
-        if depth > TOLERANCE * max(touch, 1e-3):
+            what, allowed = _spheres(bodies[a], bodies[b], names[a], names[b]), TOLERANCE * touch
+        if depth > allowed:
             raise UserError(f"{names[a]} and {names[b]} overlap by {depth:.3g} m at the start "
-                            f"({_spheres(bodies[a], bodies[b], names[a], names[b])}); the contact would fire them apart: "
-                            f"{_fix(config)}")
+                            f"({what}); the contact would fire them apart: {_fix(config)}")
 
 
 def _spheres(a, b, name_a: str, name_b: str) -> str:

@@ -14,7 +14,8 @@ A reset writes the initial state into the same arrays (no new arrays, no recompi
 ``Params`` are the scalars a window's slider may change between frames: Δt, the contact's
 stiffness, damping and friction, gravity, the box (floor y, walls ±x, ±z, on or off). They
 live on the host and, for the kernels, in ``WorldArgs`` (``values`` and ``planes``: the
-static colliders, the box as five planes n·p = offset with n pointing into the box).
+static colliders, the box as five planes n·p = offset with n pointing into the box, then the
+[[plane]] tables, then the faces of the convex static meshes, rigid.engine.static_faces).
 """
 from __future__ import annotations
 
