@@ -5,7 +5,9 @@ apart with it on the first substeps (two boxes half-overlapping leave at 6.5 m/s
 same point stay fused for good). So a scene whose bodies start overlapping is refused with
 one line naming the two bodies (or the body and the plane) and the depth, and the fix.
 
-Overlap of two bodies: the deepest overlap of two of their particles' spheres,
+Overlap of two bodies: with a static mesh touched at its faces (rigid.engine.static_faces), the
+deepest of the other's spheres in its faces, r − max_f (n_f·p − d_f), as the contact sees it;
+else the deepest overlap of two of their particles' spheres,
 r_a + r_b − |p_i − p_j| (one body's particles have radius 0 unless set: their centres). The
 spheres lie inside the meshes, tangent to their faces (rigid.bodies.inset), so this is how deep
 the meshes' surfaces cut into each other where the contact will push, and what it would store:
@@ -25,8 +27,10 @@ from .placement import world_particles
 TOLERANCE = 0.05  # of r_a + r_b: a 5 % overlap stores 0.25 % of the energy of a full one
 
 
-def check_start(config, bodies) -> None:
-    """Raise UserError if a body starts behind a [[plane]] or overlapping another body."""
+def check_start(config, bodies, faces: dict | None = None) -> None:
+    """Raise UserError if a body starts behind a [[plane]] or overlapping another body (``faces``:
+    rigid.bodies.statics.static_faces, the statics touched at their faces, measured by them)."""
+    faces = faces or {}
     points = [world_particles(b) for b in bodies]
     names = [f"body {i + 1} ({b.name})" if not b.static else f"[[static]] {b.name}" for i, b in enumerate(bodies)]
     for index, plane in enumerate(config.planes):
@@ -41,11 +45,19 @@ def check_start(config, bodies) -> None:
                                 f"move it to the side the normal points to")
     for a, b in _close_pairs(points, bodies):
         touch = bodies[a].radius + bodies[b].radius
-        depth = _deepest(points[a], points[b], touch)
-        if depth > TOLERANCE * touch:
+        if a in faces or b in faces:  # a moving body's spheres in the static's faces
+            face, mover = (a, b) if a in faces else (b, a)
+            touch = bodies[mover].radius
+            planes = faces[face][0]
+            depth = float(np.max(touch - np.max(points[mover] @ planes[:, :3].T - planes[:, 3], axis=1)))
+            what = f"{names[mover].split(' (')[0]}'s particle spheres inside the static's faces"
+            allowed = TOLERANCE * max(touch, 1e-3)
+        else:
+            depth = _deepest(points[a], points[b], touch)
+            what, allowed = _spheres(bodies[a], bodies[b], names[a], names[b]), TOLERANCE * touch
+        if depth > allowed:
             raise UserError(f"{names[a]} and {names[b]} overlap by {depth:.3g} m at the start "
-                            f"({_spheres(bodies[a], bodies[b], names[a], names[b])}); the contact would fire them apart: "
-                            f"{_fix(config)}")
+                            f"({what}); the contact would fire them apart: {_fix(config)}")
 
 
 def _spheres(a, b, name_a: str, name_b: str) -> str:

@@ -16,6 +16,11 @@ either side. h is 2.5 times the smallest
 radius of the scene's moving particles (bumps of a third of their radius, which they roll
 over; a finer h costs particles as 1/h²), or 1 % of the mesh's size if they have none. ``position`` is where the mesh file's origin goes and ``orientation`` turns
 the mesh about it (a static has no centre of mass to speak of).
+
+A convex closed mesh (a box, a ramp) is touched at its faces instead (rigid.engine.static_faces):
+``face_planes`` gives its face planes in the world, coplanar triangles merged, and the engine
+keeps its particles out of the pair stage, so that a body slides on the flat face, not over
+the spheres' bumps. Its particles stay: they are what the start's overlap check compares.
 """
 from __future__ import annotations
 
@@ -24,6 +29,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import UserError
+from .colliders import MAX_PLANES
 from .mesh import BodyGeometry, read_mesh
 from .inset import collision_centres
 from .placement import BodySpec
@@ -56,6 +62,48 @@ def static_bodies(config, bodies: list) -> list[BodySpec]:
                             table.get("restitution", config.restitution), table.get("friction", config.friction),
                             static=True))
     return out
+
+
+def static_faces(config, bodies: list) -> dict:
+    """{index in ``bodies``: (face planes (F, 4), (μ, e) or None where unset)} for the static bodies touched at their
+    faces: convex closed meshes, in order, while their faces fit the planes' slots beside the
+    box's five (reserved: ``walls`` may be switched on later) and the [[plane]] tables."""
+    free = MAX_PLANES - 5 - len(config.planes)
+    out = {}
+    for index, body in enumerate(bodies):
+        planes = face_planes(body) if body.static else None
+        if planes is not None and len(planes) <= free:
+            free -= len(planes)
+            out[index] = (planes, (body.friction, body.restitution))
+    return out
+
+
+def face_planes(body: BodySpec, tolerance: float = 1e-6):
+    """A static body's face planes in the world, (F, 4) rows (outward unit normal n, offset n·p),
+    coplanar triangles merged, if its mesh is closed and convex (every vertex on or behind every
+    face plane, within ``tolerance`` of its size); else None (it keeps the particles' contact)."""
+    g = body.geometry
+    faces = np.asarray(g.faces, np.int64).reshape(-1, 3)
+    if not closed(faces):
+        return None
+    R = quaternion_to_matrix_np(np.asarray(body.orientation, float))
+    v = np.asarray(body.position, float) + (np.asarray(g.vertices, float) - g.particles.mean(axis=0)) @ R.T
+    inside = v.mean(axis=0)
+    size = float(np.ptp(v, axis=0).max())
+    n = np.cross(v[faces[:, 1]] - v[faces[:, 0]], v[faces[:, 2]] - v[faces[:, 0]])
+    area = np.linalg.norm(n, axis=1)
+    keep = area > 1e-12 * size * size
+    n = n[keep] / area[keep, None]
+    n = np.where(((v[faces[keep, 0]] - inside) * n).sum(axis=1, keepdims=True) < 0, -n, n)  # outward
+    d = (n * v[faces[keep, 0]]).sum(axis=1)
+    planes = np.column_stack([n, d])
+    if np.any(v @ n.T - d > tolerance * size):
+        return None  # a vertex in front of a face: not convex
+    out = []
+    for row in planes:  # coplanar triangles are one face
+        if not any(np.all(np.abs(row - o) < np.array([1e-6, 1e-6, 1e-6, 1e-6 * size])) for o in out):
+            out.append(row)
+    return np.array(out)
 
 
 def closed(faces: np.ndarray) -> bool:

@@ -10,6 +10,8 @@
   stages.py     placement, planes in reach, the bodies' wrenches, the contact energy;
                 force_loop.py: the one force loop (TODO 2 + planes + pairs, TODO 3 and 4),
                 plane_terms.py: a particle's planes under the handout's law or the materials';
+                static_faces.py: a convex [[static]] mesh touched at its faces (planes bounded by
+                the mesh, out of the pair stage);
                 pair_stages.py: the pair forces, each particle's full candidate list;
                 pair_once.py: on one thread, each pair's force computed once for both sides;
                 pair_parts.py: the same sweep in parts for a CPU's threads, the bodies cut into

@@ -10,7 +10,8 @@ for bit as before):
   tangential spring kept per list entry, pair_slip.py); the planes' law with sticking friction
   is plane_terms.material_planes, in the one force loop (force_loop.py);
 - a static body (``model.body_material[b][2]`` = 1) gets no forces and is not integrated (substep.py);
-  the pair stage acts on the moving side only, with the static side's mass infinite.
+  the pair stage acts on the moving side only, with the static side's mass infinite; a convex
+  static touched at its faces (= 2, static_faces.py) is left out of it (its faces are planes).
 Every sum keeps fixed orders (slots, blocks), so runs stay bit-reproducible.
 """
 from collections import namedtuple
@@ -22,6 +23,7 @@ from .contact import pair_contact, pair_contact_sticking
 from .materials import normal_damping, pair_mu, pair_restitution, sticking_damping
 from .matvec import matvec
 from .stages import num_planes, planes_in_reach
+from .static_faces import faced, on_face
 from .state import DAMPING, DT, FRICTION, MATERIAL_TABLE, MATERIALS, STIFFNESS
 
 
@@ -115,12 +117,14 @@ MaterialSums = namedtuple("MaterialSums", "model state world scratch i a p r_a x
 
 @ti.func
 def _add_material_pair(c: ti.template(), j, entry):
-    """pair_stage's visitor: candidate j's force, couple and contact count added to the sums."""
-    fp, cp, hit = _material_pair(c.model, c.state, c.world, c.scratch, c.i, c.a, c.p, c.r_a, c.x_a, c.v_a, c.w_a, j,
-                                 entry, c.step)
-    c.f += fp
-    c.couple += cp
-    c.touching += hit
+    """pair_stage's visitor: candidate j's force, couple and contact count added to the sums (none
+    from a static mesh touched at its faces: the planes' term is its contact, static_faces.py)."""
+    if not faced(c.model, c.model.particle_body[j]):
+        fp, cp, hit = _material_pair(c.model, c.state, c.world, c.scratch, c.i, c.a, c.p, c.r_a, c.x_a, c.v_a,
+                                     c.w_a, j, entry, c.step)
+        c.f += fp
+        c.couple += cp
+        c.touching += hit
 
 
 @ti.func
@@ -177,7 +181,7 @@ def count_plane_block(model: ti.template(), state: ti.template(), world: ti.temp
                     if near & (1 << j):
                         plane = world.planes[j]
                         if plane[3] + radius - ti.Vector([plane[0], plane[1], plane[2]]).dot(p) > 0:
-                            count += 1
+                            count += on_face(world, j, p)
     pairs = 0  # and the block's pair contacts (as the last pair stage predicted them; 0 without pairs)
     for i in range(model.block_start[k], model.block_start[k] + model.block_count[k]):
         pairs += scratch.contacts[i]

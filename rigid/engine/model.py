@@ -25,7 +25,8 @@ is the run's precision, f32 or f64), all read-only during a run:
                                     the sphere about that centre holding every particle centre (one
                                     array: a kernel takes at most 64 argument elements), m
 - ``body_blocks``        [B] 2×i32  body b's blocks, consecutive: (first, how many)
-- ``body_material``      [B] vec4   (Coulomb μ, restitution e, 1 if static else 0, drag c in N s/m):
+- ``body_material``      [B] vec4   (Coulomb μ, restitution e, static: 0 no, 1 of particles, 2 touched at its
+                                    faces (static_faces.py), drag c in N s/m):
                                     materials.py, −1 for an unset μ or e; a static mesh has infinite mass,
                                     is not integrated; the drag is forces.particle_force's
 - ``body_world``         [B] 4×i32  (the grid's cell shift of the body's world, 10 bits an axis; its
@@ -69,6 +70,7 @@ class BodyParts:
     friction: float | None = None  # Coulomb μ, None: unset (friction_stiffness)
     static: bool = False  # a [[static]] mesh: never moves (rigid.engine.material_stages)
     drag: float = 0.0  # linear drag c, N s/m per particle: f = −c vᵢ (rigid.engine.forces)
+    faced: bool = False  # a static touched at its faces, not its particles (rigid.engine.static_faces)
 
 
 def _collision_centres(bodies) -> list:
@@ -148,7 +150,7 @@ class Model:
 
         self.static_np = np.array([bool(b.static) for b in bodies])
         self.body_material = device_array(np.array([(friction_value(b.friction), friction_value(b.restitution),
-                                                     float(b.static), float(b.drag)) for b in bodies]), 4)
+                                                     float(b.static) + float(b.faced), float(b.drag)) for b in bodies]), 4)
 
         self.body_world_np = world_table(W, B // W, np.zeros((B, 3), np.int64))
         self.body_world = device_array(self.body_world_np, 4, dtype=ti.i32)

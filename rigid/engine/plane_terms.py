@@ -10,7 +10,9 @@ the block loaded once for its loop (a namedtuple: Taichi inlines it). Which law 
 - ``material_planes`` (MaterialPlanes): each plane's own damper from the two sides'
   restitution and the load (materials.py), Coulomb friction with a sticking spring whose
   stretch lives in ``state.plane_slip`` [N · MAX_PLANES], and the block's contacts counted
-  (for the next evaluation's m_eff); a plane out of reach has its spring cleared.
+  (for the next evaluation's m_eff); a plane out of reach has its spring cleared, and so has a
+  static mesh's face the particle is not in front of most (static_faces.on_face: a convex
+  [[static]] mesh touched at its faces under this same law).
 """
 from collections import namedtuple
 
@@ -18,6 +20,7 @@ import taichi as ti
 
 from .contact import plane_force, plane_force_sticking
 from .materials import pair_mu, pair_restitution, plane_damping
+from .static_faces import on_face
 from .state import MATERIAL_TABLE, MATERIALS, MAX_PLANES, NUM_PLANES
 
 PlainPlanes = namedtuple("PlainPlanes", "world v omega radius stiffness kd mu plane0 plane1 plane2 count")
@@ -54,7 +57,10 @@ def material_planes(c: ti.template(), i, p, r, f):
     pv = c.v + c.omega.cross(r)
     for j in range(ti.cast(c.world.values[NUM_PLANES], ti.i32)):
         slot = i * MAX_PLANES + j
+        active = 0
         if c.near & (1 << j):
+            active = on_face(c.world, j, p)
+        if active:
             plane = c.world.planes[j]
             normal = ti.Vector([plane[0], plane[1], plane[2]])
             slip = c.state.plane_slip[slot]

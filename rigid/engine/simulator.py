@@ -19,7 +19,7 @@ from ..bodies.colliders import check_colliders, uses_materials
 from ..bodies.overlap import check_start
 from ..bodies.placement import BodySpec, check_inside_box, scene_bodies
 from ..bodies.springs import resolve_springs, spring_ends, spring_energy
-from ..bodies.statics import static_bodies
+from ..bodies.statics import static_bodies, static_faces
 from .arrays import clear, download, host_float, upload
 from .pushes import Pushes
 from .kernels import engine_kernels
@@ -61,22 +61,28 @@ class Simulator(Pushes):
         self.bodies += static_bodies(config, self.bodies)
         if config.walls:
             check_inside_box([b for b in self.bodies if not b.static], config.floor, config.wall, use_radius=True)
-        check_start(config, self.bodies)  # no body behind a [[plane]] or inside another
+        varied = check_worlds(worlds, vary, len(self.bodies))
+        # Convex statics touched at their faces (static_faces.py); their planes are every world's.
+        faces = {} if {"position", "orientation"} & set(varied) else static_faces(config, self.bodies)
+        self._faces = faces
+        check_start(config, self.bodies, faces)  # no body behind a [[plane]] or inside another
         self.springs = resolve_springs(config.springs, np.array([b.position for b in self.bodies]),
                                        np.array([b.orientation for b in self.bodies]))
         pairs = len(self.bodies) > 1  # bodies that may touch: within a world
-        varied = check_worlds(worlds, vary, len(self.bodies))
+        per_world = len(self.bodies)
         self.num_worlds = worlds = int(worlds)
         if worlds > 1 or varied:
             self.bodies, self.springs = all_worlds(config, self.bodies, self.springs, worlds, varied)
         self.materials = materials = uses_materials(config)
         self.kernels = engine_kernels(units, config.integrator, pairs=pairs, materials=materials)
         parts = [BodyParts(b.geometry.particles, b.geometry.vertices, b.geometry.faces, b.particle_mass,
-                           b.radius, b.name, b.restitution, b.friction, b.static, b.drag) for b in self.bodies]
+                           b.radius, b.name, b.restitution, b.friction, b.static, b.drag, i % per_world in faces)
+                 for i, b in enumerate(self.bodies)]
         self.model = Model(parts, self.kernels, worlds)
         B, N = self.model.num_bodies, self.model.num_particles
         self.state = State(B, N, materials, N * NEIGHBOURS_PER_PARTICLE if pairs else 0)
         self.params = Params(config)
+        self.params.set_faces(faces.values())
         self.params.set_springs([s.row() for s in self.springs], worlds)
         self.params.sleep = self.params.sleep and not self.springs  # a spring's far end moves a sleeper
         self.rows = FrameRows(B, worlds)
@@ -181,7 +187,7 @@ class Simulator(Pushes):
             raise ValueError("the changed config places other bodies: build a new Simulator")
         if self.config.walls:
             check_inside_box([b for b in bodies if not b.static], self.config.floor, self.config.wall, use_radius=True)
-        check_start(self.config, bodies)
+        check_start(self.config, bodies, self._faces)
         self.bodies = bodies
 
     def step_frame(self, substeps: int | None = None):

@@ -14,6 +14,7 @@ import taichi as ti
 from . import pair_stages, schedule, schemes
 from .contact import plane_force
 from .matvec import body_offset, matvec
+from .static_faces import faced, on_face
 from .state import DAMPING, FRICTION, GX, NUM_PLANES, STIFFNESS
 
 # A block's reach test is padded by this fraction of the coordinates' size (~170 float32
@@ -125,7 +126,8 @@ def body_wrench(model: ti.template(), scratch: ti.template(), b):
 def block_contact_energy(model: ti.template(), state: ti.template(), world: ti.template(),
                          scratch: ti.template(), k, pairs: ti.template()):
     """The springs' energy ½ k δ² of block k's particles (slot order): the static planes in reach
-    (the others store none), and half of each pair's. Read at a frame's end, from the placed
+    (the others store none; a static mesh's faces as static_faces.on_face, and none on its own
+    particles), and half of each pair's. Read at a frame's end, from the placed
     particles."""
     b = model.block_body[k]
     start = model.block_start[k]
@@ -138,9 +140,10 @@ def block_contact_energy(model: ti.template(), state: ti.template(), world: ti.t
         if near:
             for j in range(num_planes(world)):
                 if near & (1 << j):
-                    _f, e = plane_force(state.particle_x[i], state.particle_v[i], radius, world.planes[j],
-                                        stiffness, kd, mu)
-                    energy += e
+                    if on_face(world, j, state.particle_x[i]) and not faced(model, b):
+                        _f, e = plane_force(state.particle_x[i], state.particle_v[i], radius, world.planes[j],
+                                            stiffness, kd, mu)
+                        energy += e
         if ti.static(pairs):
             _f, _c, e = pair_stages.pair_forces(model, state, world, scratch, i, False)
             energy += e

@@ -14,7 +14,8 @@ A reset writes the initial state into the same arrays (no new arrays, no recompi
 ``Params`` are the scalars a window's slider may change between frames: Δt, the contact's
 stiffness, damping and friction, gravity, the box (floor y, walls ±x, ±z, on or off). They
 live on the host and, for the kernels, in ``WorldArgs`` (``values`` and ``planes``: the
-static colliders, the box as five planes n·p = offset with n pointing into the box).
+static colliders, the box as five planes n·p = offset with n pointing into the box, then the
+[[plane]] tables, then the faces of the convex static meshes, rigid.engine.static_faces).
 """
 from __future__ import annotations
 
@@ -75,6 +76,7 @@ class Params:
         self.springs = zeros(max(len(getattr(config, "springs", ())), 1), "v16")
         self.args = WorldArgs()(values=self.values, planes=self.planes, springs=self.springs)
         self._loading = True
+        self.face_groups = []  # convex [[static]] meshes' faces (set_faces), kept across loads
         self.grab_values = released()  # the mouse's spring (grab.py): kept across loads and uploads
         self.load(config)
 
@@ -118,14 +120,30 @@ class Params:
             upload(self.springs, self.spring_rows)
         self.upload()
 
+    def set_faces(self, groups) -> None:
+        """The convex static meshes touched at their faces (rigid.engine.static_faces): per mesh,
+        (its face planes (F, 4): outward normal, offset; its (μ, e), None: unset), after the other planes."""
+        self.face_groups = [(np.asarray(planes, np.float64).reshape(-1, 4), tuple(map(friction_value, material)))
+                            for planes, material in groups]
+        self.upload()
+
     def plane_list(self) -> np.ndarray:
-        """The static planes (n, 4): normal (into the free side) and offset n·p, in force order."""
+        """The static planes (n, 4): normal (into the free side) and offset n·p, in force order:
+        the box's (if walls), the [[plane]] tables', the static meshes' faces."""
         extra = np.array(getattr(self, "extra_planes", []), np.float64).reshape(-1, 4)
-        if not self.walls:
-            return extra
-        f, w = self.floor, self.wall
-        box = np.array([[0, 1, 0, f], [1, 0, 0, -w], [-1, 0, 0, -w], [0, 0, 1, -w], [0, 0, -1, -w]], np.float64)
-        return np.concatenate([box, extra])
+        faces = [planes for planes, _m in getattr(self, "face_groups", [])]
+        if self.walls:
+            f, w = self.floor, self.wall
+            extra = np.concatenate([[[0, 1, 0, f], [1, 0, 0, -w], [-1, 0, 0, -w], [0, 0, 1, -w], [0, 0, -1, -w]],
+                                    extra])
+        return np.concatenate([extra, *faces]) if faces else extra
+
+    def _material_rows(self, planes) -> list:
+        """Each plane's row (μ, e, first, count): a static mesh's faces name their mesh's planes."""
+        rows = [self.box_material] * (5 if self.walls else 0) + list(self.extra_materials)
+        for faces, (mu, e) in self.face_groups:
+            rows += [(mu, e, len(rows), len(faces))] * len(faces)
+        return rows
 
     def upload(self, wakes: bool = True) -> None:
         """Copy the values to the device; ``wakes``: a change every body must feel (the Simulator
@@ -144,8 +162,7 @@ class Params:
             self.version = getattr(self, "version", 0) + 1  # the Simulator wakes every body on a change
         material = np.zeros((MAX_PLANES, 4))
         if len(planes):
-            rows = [self.box_material] * (5 if self.walls else 0) + list(self.extra_materials)
-            material[:len(planes)] = np.array(rows)
+            material[:len(planes)] = np.array(self._material_rows(planes))
         upload(self.values, np.concatenate([values, material.reshape(-1), self.table]))
         padded = np.zeros((MAX_PLANES, 4))
         padded[:len(planes)] = planes
