@@ -1,4 +1,5 @@
-"""Resting heights and closest approach beside PyBullet's hull of the same mesh -> report/contact.md
+"""Resting heights, closest approach, a 6-box stack's jitter and penetration and a box on a 30° ramp
+beside PyBullet's hull of the same mesh -> report/contact.md
 and report/contact.json (logic: rigid.bench.contact; PyBullet from the optional ``peers`` extra)."""
 import argparse
 import sys
@@ -28,7 +29,7 @@ def main(argv=None) -> int:
     if args.json:
         print(json.dumps(rows))
         return 0
-    write(args.out, rows, ["geometry", "ours"] + (["PyBullet hull"] if peers else []))
+    write(args.out, rows)
     print(f"wrote {args.out / 'contact.md'}")
     return 0
 

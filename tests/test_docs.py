@@ -28,6 +28,8 @@ def test_the_site_builds_strict_with_the_api_and_the_report_tables(tmp_path):
     assert "advance_frames" in api and "load_scene" in api  # made from the docstrings
     performance = (tmp_path / "site" / "performance" / "index.html").read_text()
     assert "<!-- report:" not in performance and performance.count("<table>") >= 5
+    physics = (tmp_path / "site" / "physics" / "index.html").read_text()
+    assert "<!-- report:" not in physics and "PyBullet hull" in physics  # report/contact.json's table
     assert (tmp_path / "site" / "figures" / "many_scaling.png").is_file()
 
 
