@@ -54,11 +54,13 @@ def _first_above(scratch: ti.template(), base, n, i):
 
 @ti.func
 def each_candidate(model: ti.template(), state: ti.template(), scratch: ti.template(), i, a, visit: ti.template(),
-                   ctx: ti.template(), which: ti.template() = ALL):
+                   ctx: ti.template(), which: ti.template() = ALL, entries: ti.template() = False):
     """visit(ctx, j) for each candidate j of slot i (of body a): its neighbour list in order, or,
     where the list overflowed, the build's grid around i's build position. ``which``: ABOVE or
     BELOW, of a listed particle only the candidates above (below) slot i, found by bisection in
-    the sorted list (the sweep's turns: pair_once.py, pair_parts.py); an overflowed one's all."""
+    the sorted list (the sweep's turns: pair_once.py, pair_parts.py); an overflowed one's all.
+    With ``entries``, visit(ctx, j, e): e = i·K + t, the index of j's entry in i's list (and of
+    what arrays beside the lists keep for it: pair_slip.py), or −1 where the grid is walked."""
     stride = neighbours.list_stride(scratch, state)
     n = scratch.nbr_count[i]
     if n <= stride:
@@ -69,23 +71,10 @@ def each_candidate(model: ti.template(), state: ti.template(), scratch: ti.templ
         elif ti.static(which == BELOW):
             end = _first_above(scratch, base, n, i)
         for t in range(first, end):
-            visit(ctx, scratch.nbr_list[base + t])
+            if ti.static(entries):
+                visit(ctx, scratch.nbr_list[base + t], base + t)
+            else:
+                visit(ctx, scratch.nbr_list[base + t])
     else:
         grid.each_slot_around(scratch, grid.particle_coords(scratch, model, i, scratch.build_x[i]), _other_body,
-                              ti.static(_Overflow(model, scratch, a, visit, ctx, False)))
-
-
-@ti.func
-def each_entry(model: ti.template(), state: ti.template(), scratch: ti.template(), i, a, visit: ti.template(),
-               ctx: ti.template()):
-    """each_candidate with each candidate's place in i's list: visit(ctx, j, e), e = i·K + t the
-    index of the entry (and of what arrays beside the lists keep for it: pair_slip.py), or −1
-    where i's list overflowed and the grid is walked (no entry, nothing kept)."""
-    stride = neighbours.list_stride(scratch, state)
-    n = scratch.nbr_count[i]
-    if n <= stride:
-        for t in range(n):
-            visit(ctx, scratch.nbr_list[i * stride + t], i * stride + t)
-    else:
-        grid.each_slot_around(scratch, grid.particle_coords(scratch, model, i, scratch.build_x[i]), _other_body,
-                              ti.static(_Overflow(model, scratch, a, visit, ctx, True)))
+                              ti.static(_Overflow(model, scratch, a, visit, ctx, entries)))

@@ -142,9 +142,9 @@ def pair_stage(model: ti.template(), state: ti.template(), world: ti.template(),
     if not is_static(model, a):
         p, r_a = state.particle_x[i], model.particle_radius[a]
         x_a, v_a, w_a = state.x[a], state.v[a], state.omega[a]
-        candidates.each_entry(model, state, scratch, i, a, _add_material_pair,
+        candidates.each_candidate(model, state, scratch, i, a, _add_material_pair,
                               ti.static(MaterialSums(model, state, world, scratch, i, a, p, r_a, x_a, v_a, w_a,
-                                                     step, f, couple, touching)))
+                                                     step, f, couple, touching)), entries=True)
     scratch.particle_f[i] = f
     scratch.particle_couple[i] = couple
     scratch.contacts[i] = touching
