@@ -22,6 +22,7 @@
                 carried across rebuilds
   contact.py    the one contact law; grid.py, scan.py, neighbours.py: the grid and neighbour lists;
                 motion.py: when the lists must be rebuilt (each body's motion, the pairs near enough to touch);
+                refresh.py, refresh_search.py, refresh_state.py: only the moved bodies' lists rebuilt;
                 list_growth.py: longer lists where one overflowed (the chunk run again); skin.py: the
                 lists' skin adapted to how often they are rebuilt
   sleep.py      bodies at rest stop being integrated until something touches them
@@ -38,6 +39,7 @@
                 split_substep.py: the parallel substep in parts; launch.py: launches with their arguments set once;
                 threads.py: Taichi's CPU workers pinned one to a core for the parallel schedule
   rows.py       a row of state per frame, for the host; simulator.py: the facade
+  worlds.py     many worlds in one Simulator: copies of a scene, none touching another
   units.py      the TODO units' contract; rotation.py, matvec.py: helpers
 
 Nothing here replaces a function of Taichi's (tests/test_backends.py checks).
