@@ -18,7 +18,7 @@ from collections import namedtuple
 
 import taichi as ti
 
-from . import candidates, neighbours, pair_slip
+from . import candidates, neighbours, pair_slip, sleep
 from .contact import pair_contact, pair_contact_sticking
 from .materials import normal_damping, pair_mu, pair_restitution, sticking_damping
 from .matvec import matvec
@@ -63,13 +63,14 @@ def _pair_count(model: ti.template(), state: ti.template(), scratch: ti.template
 def _material_pair(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(),
                    i, a, p, r_a, x_a, v_a, w_a, j, entry, step):
     """Slot j (another body's particle) on slot i at p (body a): (force, couple, 1 if it touches now
-    or will after this substep at their closing speed, else 0). ``entry``: the pair's place in i's
+    or will after this substep at their closing speed, else 0, 1 if it touches now). ``entry``: the pair's place in i's
     list, where its sticking spring is kept (pair_slip.py), or −1 (i walks the grid). The law is
     evaluated from the lower slot's side whichever side asks, so that both sides' forces are
     exactly opposite and both copies of the spring evolve alike (pair_stages.pair_between)."""
     f = ti.Vector.zero(float, 3)
     couple = ti.Vector.zero(float, 3)
     touching = 0
+    inside = 0
     b = model.particle_body[j]
     q, r_b = state.particle_x[j], model.particle_radius[b]
     d = q - p
@@ -102,6 +103,7 @@ def _material_pair(model: ti.template(), state: ti.template(), world: ti.templat
         f = sign * f_lo
         couple = (point - p).cross(f)
         touching = 1
+        inside = 1
     elif d.dot(d) < 4.0 * reach * reach:  # about to touch? (for the next count)
         dist = ti.sqrt(d.dot(d))
         closing = ((v_a + w_a.cross(p - x_a)) - (state.v[b] + state.omega[b].cross(q - state.x[b]))).dot(d) / dist
@@ -109,45 +111,103 @@ def _material_pair(model: ti.template(), state: ti.template(), world: ti.templat
             touching = 1
     if entry >= 0:
         pair_slip.set_spring(state, scratch, entry, slip)  # zero once apart
-    return f, couple, touching
+    return f, couple, touching, inside
 
 
-MaterialSums = namedtuple("MaterialSums", "model state world scratch i a p r_a x_a v_a w_a step f couple touching")
+MaterialSums = namedtuple("MaterialSums",
+                          "model state world scratch i a p r_a x_a v_a w_a step wave waker f couple touching sleepers")
 
 
 @ti.func
 def _add_material_pair(c: ti.template(), j, entry):
     """pair_stage's visitor: candidate j's force, couple and contact count added to the sums (none
-    from a static mesh touched at its faces: the planes' term is its contact, static_faces.py)."""
-    if not faced(c.model, c.model.particle_body[j]):
-        fp, cp, hit = _material_pair(c.model, c.state, c.world, c.scratch, c.i, c.a, c.p, c.r_a, c.x_a, c.v_a,
-                                     c.w_a, j, entry, c.step)
+    from a static mesh touched at its faces: the planes' term is its contact, static_faces.py).
+    With sleeping (``wave`` 0 or 1, else −1), wave 0: a moving body (``waker``) marks the sleeping
+    body of j it touches as woken, and ``sleepers`` counts the candidates of sleeping bodies;
+    wave 1 (a woken body): the spring's copy of a resting sleeper's particle j written too."""
+    b = c.model.particle_body[j]
+    if not faced(c.model, b):
+        fp, cp, hit, inside = _material_pair(c.model, c.state, c.world, c.scratch, c.i, c.a, c.p, c.r_a, c.x_a,
+                                             c.v_a, c.w_a, j, entry, c.step)
         c.f += fp
         c.couple += cp
         c.touching += hit
+        if ti.static(c.wave == 0):
+            if sleep.asleep(c.state, b):
+                c.sleepers += 1
+                if c.waker and inside:
+                    sleep.mark_woken(c.state, b)
+        elif ti.static(c.wave == 1):
+            if sleep.resting(c.state, b):
+                pair_slip.copy_to(c.state, c.scratch, c.i, j, entry)
 
 
 @ti.func
-def pair_stage(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(), i, step):
+def pair_stage(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(), i, step,
+               wave: ti.template() = -1):
     """Stage 3a with materials: slot i's force and couple from its candidates (the other bodies'
     particles near it, candidates.py), their springs stretched over ``step``, and how
     many of them touch it or will after this substep at their closing speed (the next force
     evaluation's count: a count of those touching only would be 0 on a contact's first substep
     and over-damp it, 19 % low at e = 0.1 for volume balls head-on; counting them anew before
-    the forces would take a second neighbour search, 75 % more time in a pile)."""
+    the forces would take a second neighbour search, 75 % more time in a pile). ``wave``: with
+    sleeping, pair_wave's (wave 0 also notes whether i has sleepers among its candidates)."""
     a = model.particle_body[i]
     f = ti.Vector.zero(float, 3)
     couple = ti.Vector.zero(float, 3)
     touching = 0
+    sleepers = 0
     if not is_static(model, a):
         p, r_a = state.particle_x[i], model.particle_radius[a]
         x_a, v_a, w_a = state.x[a], state.v[a], state.omega[a]
+        waker = 0
+        if ti.static(wave == 0):
+            waker = sleep.moving(state, world, scratch, a)
         candidates.each_candidate(model, state, scratch, i, a, _add_material_pair,
-                              ti.static(MaterialSums(model, state, world, scratch, i, a, p, r_a, x_a, v_a, w_a,
-                                                     step, f, couple, touching)), entries=True)
+                                  ti.static(MaterialSums(model, state, world, scratch, i, a, p, r_a, x_a, v_a, w_a,
+                                                         step, wave, waker, f, couple, touching, sleepers)),
+                                  entries=True)
     scratch.particle_f[i] = f
     scratch.particle_couple[i] = couple
     scratch.contacts[i] = touching
+    if ti.static(wave == 0):
+        pair_slip.note_sleepers(state, scratch, i, sleepers)
+
+
+CopySprings = namedtuple("CopySprings", "model state scratch i")
+
+
+@ti.func
+def _copy_spring(c: ti.template(), j, entry):
+    """copy_springs' visitor: the pair's spring written to j's copy if j's body rests."""
+    if sleep.resting(c.state, c.model.particle_body[j]):
+        pair_slip.copy_to(c.state, c.scratch, c.i, j, entry)
+
+
+@ti.func
+def pair_wave(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(),
+              wave: ti.template(), step):
+    """Stage 3a with materials and sleeping bodies, pass ``wave`` (a top-level loop; each writes its
+    own slot, its own list's springs and, wave 1, the sleepers' copies of its own pairs: any
+    order). Wave 0: the awake bodies' particles, a moving body marking the sleepers it touches
+    (sleep.py). Wave 1: the particles of the sleepers woken in wave 0 (their pairs with an awake
+    body's particle evaluated as that side did, on the same copy of the spring: equal and
+    opposite); and each awake particle that has sleepers among its candidates writes its new
+    springs into the copies of the pairs' resting sides, which skip the pair stage (pair_slip.py):
+    so both copies of every pair stay the same, whoever wakes when."""
+    for t in range(neighbours.num_active(scratch)):
+        i = scratch.active[t]
+        b = model.particle_body[i]
+        if ti.static(wave == 0):
+            if not sleep.asleep(state, b):
+                pair_stage(model, state, world, scratch, i, step, 0)
+        else:
+            if sleep.asleep(state, b):
+                if not sleep.resting(state, b):
+                    pair_stage(model, state, world, scratch, i, step, 1)
+            elif pair_slip.near_sleepers(state, scratch, i):
+                candidates.each_candidate(model, state, scratch, i, b, _copy_spring,
+                                          ti.static(CopySprings(model, state, scratch, i)), entries=True)
 
 
 @ti.func

@@ -20,6 +20,14 @@ they fall back to the viscous law (friction c_t |v_t| capped at μ f_n), from bo
 other side sees the overflow in the count), until the lists grow (list_growth.py, ``grown``)
 and the chunk is run again; past ``MAX_NEIGHBOURS`` they stay viscous.
 
+With sleeping bodies (sleep.py) a resting sleeper's particles skip the pair stage, so the copy
+on its side would go stale while the awake side's evolves: the awake side writes it too
+(``copy_to``, in material_stages.pair_wave's wave 1, after wave 0 has decided who wakes; the
+entry of i in j's sorted list found by bisection). Each such entry (j's pair with i) is written
+by i's thread only, without atomics (Vulkan skips stores with atomics on other particles' data).
+Wave 0 notes which awake particles have sleepers among their candidates (``note_sleepers``),
+in the kept lists' counts, which only a rebuild uses, so that wave 1 walks only those.
+
 Where they live (a kernel taking every argument pack is at the x64 backend's 64 elements, so
 no array of their own), with L = N·K the lists' length: the springs at the end of
 ``state.plane_slip`` (after the planes' springs), [L] those of the current lists then [L] the
@@ -101,6 +109,40 @@ def carry(state: ti.template(), scratch: ti.template(), i):
             s = state.plane_slip[springs + size + base + u]
         state.plane_slip[springs + base + t] = s
         t += 1
+
+
+@ti.func
+def note_sleepers(state: ti.template(), scratch: ti.template(), i, count):
+    """Wave 0: slot i has ``count`` candidates of sleeping bodies (kept in the kept counts' slot
+    i, free between rebuilds: ``keep`` and ``carry`` use it within one)."""
+    scratch.contacts[_kept(state, scratch) + scratch.nbr_list.shape[0] + i] = count
+
+
+@ti.func
+def near_sleepers(state: ti.template(), scratch: ti.template(), i):
+    return scratch.contacts[_kept(state, scratch) + scratch.nbr_list.shape[0] + i] > 0
+
+
+@ti.func
+def copy_to(state: ti.template(), scratch: ti.template(), i, j, e):
+    """The spring of slot i's entry e (its pair with j; −1: none, then zero) written to j's copy,
+    the entry of i in j's sorted list (none if j's list overflowed or lacks i)."""
+    stride = neighbours.list_stride(scratch, state)
+    n = scratch.nbr_count[j]
+    if n <= stride:
+        base = j * stride
+        lo, hi = 0, n
+        while lo < hi:  # the first entry above i ...
+            mid = (lo + hi) >> 1
+            if scratch.nbr_list[base + mid] > i:
+                hi = mid
+            else:
+                lo = mid + 1
+        if lo > 0 and scratch.nbr_list[base + lo - 1] == i:  # ... follows i's
+            s = ti.Vector.zero(float, 3)
+            if e >= 0:
+                s = spring(state, scratch, e)
+            set_spring(state, scratch, base + lo - 1, s)
 
 
 def grown(sim, num_particles, stride):

@@ -9,13 +9,16 @@ no placement, no pair forces with other sleepers, no block forces, no update. It
   quiet awake body meets a sleeper as a static obstacle, so two quiet bodies in contact do
   not wake each other over and over): the toucher's pair stage marks it, and in the same
   substep the woken body's particles take their pair forces too (stage 3a's second pass), so
-  the two sides are equal and opposite and momentum is conserved through the wake;
+  the two sides are equal and opposite and momentum is conserved through the wake (with
+  materials: material_stages.pair_wave, whose second pass also writes the resting sides' copies
+  of the pairs' sticking springs, pair_slip.copy_to, so both copies stay the same);
 - the host wakes it: an impulse (``Simulator.apply_impulse``, the window's kick), a grab
   (``Simulator.wake``), a change of a runtime parameter (gravity, walls, stiffnesses...) or a
   reset (which wakes every body).
 Only scenes whose bodies collide with one another sleep (B > 1: a lone body never does, so its
-trajectories and pinned exports are unchanged), and only under the Euler and symplectic
-schemes (RK4's stages move every body). ``sleep = false`` (``--no-sleep``) turns it off
+trajectories and pinned exports are unchanged), with or without materials (a static body never
+sleeps: it is never updated), and only under the Euler and symplectic schemes (RK4's stages
+move every body). ``sleep = false`` (``--no-sleep``) turns it off
 (sleep_speed 0: no body is ever quiet). Until a first body falls asleep the substeps are the
 same bits with sleeping on or off; every decision is made from the state alone (no timing, no
 thread order), so runs stay bit-reproducible either way.

@@ -26,12 +26,12 @@ Plan = namedtuple("Plan", "u update rk4 pairs materials sleeping parts refreshin
 
 
 def make_plan(units, scheme: str, pairs: bool, materials: bool, compact: bool) -> Plan:
-    """The compile-time choices for ``units`` and ``scheme``. Bodies may sleep (sleep.py), and lists
-    be refreshed in part (refresh.py), only without materials (whose contacts keep per-contact
-    memory: static friction's springs, the counts of m_eff) and without RK4."""
+    """The compile-time choices for ``units`` and ``scheme``. Bodies may sleep (sleep.py) only without
+    RK4; lists be refreshed in part (refresh.py) only without materials (whose contacts keep
+    per-contact memory: static friction's springs, the counts of m_eff)."""
     rk4 = scheme == "rk4"
     update = schemes.symplectic_update if scheme == "symplectic" else schemes.euler_update
-    return Plan(units, update, rk4, pairs, materials, sleeping=pairs and not rk4 and not materials,
+    return Plan(units, update, rk4, pairs, materials, sleeping=pairs and not rk4,
                 parts=pair_parts.parts_here(), refreshing=not materials, compact=compact)
 
 
@@ -113,7 +113,10 @@ def pair_forces(plan: ti.template(), model: ti.template(), state: ti.template(),
     """Stage 3a, each particle's force and couple from the other bodies', by the schedule's way of
     walking the pairs (the same law, contact.py, and candidates, candidates.py); with materials,
     the pairs' sticking springs stretch over ``step`` (pair_slip.py)."""
-    if ti.static(plan.materials):
+    if ti.static(plan.materials and plan.sleeping):  # in two waves (sleep.py)
+        for wave in ti.static(range(2)):
+            material_stages.pair_wave(model, state, world, scratch, wave, step)
+    elif ti.static(plan.materials):
         for t in range(neighbours.num_active(scratch)):  # each writes its own slot: any order
             material_stages.pair_stage(model, state, world, scratch, scratch.active[t], step)
     elif ti.static(parallel and plan.parts):  # a CPU: the sweep in parts (pair_parts.py)
@@ -133,20 +136,31 @@ def update_body(plan: ti.template(), model: ti.template(), state: ti.template(),
     """Stage 4 for body b: its wrench and the scheme's update (a static body: its contacts only; a
     resting sleeper: nothing, sleep.py)."""
     if ti.static(plan.materials):
-        F, tau = stages.body_wrench(model, scratch, b)
-        material_stages.count_contacts(model, state, scratch, b)
-        if not material_stages.is_static(model, b):
-            plan.update(plan.u, model, state, b, dt, F, tau)
+        material_stages.count_contacts(model, state, scratch, b)  # a sleeper's: as it fell asleep
+        if not material_stages.is_static(model, b):  # (a static body never sleeps)
+            if ti.static(plan.sleeping):
+                sleeping_update(plan, model, state, scratch, world, b, dt)
+            else:
+                F, tau = stages.body_wrench(model, scratch, b)
+                plan.update(plan.u, model, state, b, dt, F, tau)
     elif ti.static(plan.sleeping):
-        if not sleep.resting(state, b):
-            sleep.begin_update(state, b)
-            F, tau = stages.body_wrench(model, scratch, b)
-            plan.update(plan.u, model, state, b, dt, F, tau)
-            if sleep.end_update(state, world, scratch, b):  # at rest from now on
-                stages.set_at_rest(plan.u, model, state, b)
+        sleeping_update(plan, model, state, scratch, world, b, dt)
     else:
         F, tau = stages.body_wrench(model, scratch, b)
         plan.update(plan.u, model, state, b, dt, F, tau)
+
+
+@ti.func
+def sleeping_update(plan: ti.template(), model: ti.template(), state: ti.template(), scratch: ti.template(),
+                    world: ti.template(), b, dt):
+    """Body b's update with sleeping bodies: none while it rests; else the scheme's, and set at
+    rest if it falls asleep now (sleep.py)."""
+    if not sleep.resting(state, b):
+        sleep.begin_update(state, b)
+        F, tau = stages.body_wrench(model, scratch, b)
+        plan.update(plan.u, model, state, b, dt, F, tau)
+        if sleep.end_update(state, world, scratch, b):  # at rest from now on
+            stages.set_at_rest(plan.u, model, state, b)
 
 
 @ti.func

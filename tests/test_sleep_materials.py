@@ -1,0 +1,124 @@
+"""Sleeping with materials (rigid.engine.sleep, material_stages.pair_wave): a pile with friction and
+restitution falls asleep exactly at rest and stays; until a first body sleeps, the same bits as
+with sleeping off; a moving body wakes the sleeper it hits, momentum conserved; and both copies of
+each pair's sticking spring (pair_slip.py) agree while one side rests and after it wakes."""
+import numpy as np
+import pytest
+
+from conftest import ASSETS
+
+SPHERE, BOX = str(ASSETS / "sphere.obj"), str(ASSETS / "box.obj")
+# tests/test_sleep.py's spheres, with materials: Coulomb friction with sticking springs, e = 0.2
+SETTLING = dict(mesh=SPHERE, scale=0.15, particle_mass=0.01, velocity_damping_stiffness=12.0,
+                friction_stiffness=0.4, integrator="symplectic", dt=1e-3, friction=0.5, restitution=0.2)
+
+
+def _pair_springs(sim):
+    """{(i, j): the spring i keeps for its pair with j} over the lists' entries in use."""
+    from rigid.engine.arrays import download
+
+    arrays = sim._scratch_arrays
+    count, lists = download(arrays["nbr_count"]).ravel(), download(arrays["nbr_list"]).ravel()
+    K = len(lists) // len(count)
+    slips = download(sim.state.plane_slip)
+    slips = slips[len(slips) - 2 * len(lists):len(slips) - len(lists)]  # the current lists' (pair_slip.py)
+    return {(i, int(lists[i * K + t])): slips[i * K + t] for i in range(len(count)) if count[i] <= K
+            for t in range(count[i])}
+
+
+def _agree(sim):
+    """Both copies of every listed pair's spring the same bits; the number of stretched ones."""
+    springs = _pair_springs(sim)
+    stretched = 0
+    for (i, j), s in springs.items():
+        if (j, i) in springs:
+            assert np.array_equal(s, springs[j, i]), (i, j, s, springs[j, i])
+        stretched += bool(np.any(s != 0))
+    return stretched
+
+
+def test_a_materials_pile_sleeps_exactly_at_rest_and_until_then_keeps_the_bits(sim_cache):
+    on = sim_cache(count=6, position=(0.0, -0.8, 0.0), **SETTLING)
+    off = sim_cache(count=6, position=(0.0, -0.8, 0.0), sleep=False, **SETTLING)
+    first = None
+    for frame in range(480):
+        on.step_frame()
+        if first is None:
+            off.step_frame()
+            if on.asleep().any():
+                first = frame
+            else:  # no body asleep yet: the same bits as with sleeping off
+                a, b = on.snapshot(), off.snapshot()
+                for key in ("x", "q", "P", "L"):
+                    assert np.array_equal(a[key], b[key]), (frame, key)
+        if on.asleep().all():
+            break
+    assert first is not None and first > 30, f"first sleeper at frame {first}"
+    assert on.asleep().all(), f"{on.asleep().sum()} of 6 asleep after {on.time:.1f} s"
+    assert not off.asleep().any()
+    row = on.snapshot()
+    assert np.all(row["P"] == 0) and np.all(row["L"] == 0) and np.all(row["v"] == 0) and np.all(row["omega"] == 0)
+    assert row["kinetic_energy"] == 0.0
+    assert np.all(row["x"][:, 1] > -1.0 + 0.1)  # on the floor, not through it
+    block = on.advance_frames(30)  # and stays: nothing moves
+    assert on.asleep().all()
+    assert np.all(block["x"] == row["x"][None]) and np.all(block["q"] == row["q"][None])
+    _agree(on)
+
+
+def _free_space(sim_cache, sleep):
+    """test_sleep.py's row: three spheres at rest 0.45 m apart, a fourth arriving at 1 m/s along
+    the row, spinning (no gravity, no walls), with materials; the resting ones sleep at 0.5 s."""
+    bodies = tuple(dict(position=(0.45 * k, 0.0, 0.0)) for k in range(3)) + (
+        dict(position=(-1.2, 0.0, 0.0), initial_velocity=(1.0, 0.0, 0.0), initial_angular_velocity=(0.0, 0.0, 2.0)),)
+    return sim_cache(bodies=bodies, gravity=(0.0, 0.0, 0.0), walls=False, sleep=sleep, **SETTLING)
+
+
+def test_a_moving_body_wakes_the_sleeper_it_hits_and_momentum_is_kept(sim_cache):
+    on, off = _free_space(sim_cache, True), _free_space(sim_cache, False)
+    start = on.snapshot()
+    P0, L0 = start["P"].sum(axis=0), (np.cross(start["x"], start["P"]) + start["L"]).sum(axis=0)
+    slept = False
+    for _ in range(120):  # 2 s: the first hit after ~0.85 m travelled, then the chain
+        on.step_frame()
+        off.step_frame()
+        slept |= bool(on.asleep()[:3].all())
+        _agree(on)
+    assert slept, "the resting spheres never slept: the test would prove nothing"
+    a, b = on.snapshot(), off.snapshot()
+    assert not on.asleep()[0], "the struck sphere stayed asleep"
+    assert np.abs(a["v"][:3]).max() > 0.1, "the moving sphere hit nothing"
+    P, L = a["P"].sum(axis=0), (np.cross(a["x"], a["P"]) + a["L"]).sum(axis=0)
+    scale = np.abs(start["P"]).sum()
+    np.testing.assert_allclose(P, P0, atol=1e-5 * scale)
+    np.testing.assert_allclose(L, L0, atol=1e-5 * (scale + np.abs(start["L"]).sum()))
+    for key in ("x", "q", "P", "L"):  # the sleepers were exactly at rest already: the same bits
+        assert np.array_equal(a[key], b[key]), key
+
+
+def test_both_copies_of_the_springs_agree_while_a_sleeper_holds_a_woken_box_and_after_it_wakes(sim_cache):
+    """Two boxes of stack.toml with friction, settled and asleep; the top one woken rests on the
+    resting one (held by its springs, the lower side's copies written by the upper side), then
+    the lower one woken: every pair's two copies agree throughout, and the stack holds."""
+    below, above = dict(position=(0.0, -0.898, 0.0)), dict(position=(0.02, -0.7077, 0.02))
+    sim = sim_cache(bodies=(below, above), particles="volume", mesh=BOX, scale=0.2, grid=5, particle_mass=0.01,
+                    velocity_damping_stiffness=12.0, friction_stiffness=0.6, integrator="symplectic",
+                    friction=0.6, restitution=0.2)
+    for _ in range(300):
+        sim.step_frame()
+        if sim.asleep().all():
+            break
+    assert sim.asleep().all(), f"the stack did not sleep in {sim.time:.1f} s"
+    assert _agree(sim) >= 8, "few springs stretched: the test would prove little"
+    x0 = sim.snapshot()["x"].copy()
+    sim.wake(1)
+    for _ in range(10):
+        sim.step_frame()
+        assert sim.asleep()[0], "the quiet box woke the sleeper below it"
+        _agree(sim)
+    sim.wake(0)
+    for _ in range(10):
+        sim.step_frame()
+        _agree(sim)
+    moved = np.linalg.norm(sim.snapshot()["x"] - x0, axis=1)
+    assert moved.max() < 1e-3, f"the boxes moved {moved} m"
