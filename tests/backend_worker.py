@@ -20,13 +20,17 @@ ASSETS = ROOT / "assets"
 
 def scenes():
     """name -> SimConfig values: the scenes the backends must agree on (a body alone against the
-    walls; two bodies meeting in free space, symplectic; eight colliding, sleeping on, explicit Euler)."""
+    walls; two bodies meeting in free space, symplectic, without and with materials; eight
+    colliding, sleeping on, explicit Euler)."""
     from rigid.config import load_scene
 
     head_on = load_scene(ASSETS / "scenes" / "head_on.toml")  # moved closer: they meet in the first frames
     head_on["bodies"] = tuple(dict(b, position=(0.3 * b["position"][0], *b["position"][1:])) for b in head_on["bodies"])
     thrown = dict(load_scene(ASSETS / "scenes" / "thrown_sphere.toml"), position=(0.6, -0.6, 0.0))  # hits a wall
-    return {"thrown_sphere": thrown, "head_on": head_on,
+    # The materials' path (restitution and sticking friction: its own pair stage, plane law and
+    # frame energy) on the same meeting.
+    materials = dict(head_on, restitution=0.5, friction=0.3)
+    return {"thrown_sphere": thrown, "head_on": head_on, "head_on_materials": materials,
             "pile_of_8": dict(mesh=str(ASSETS / "sphere.obj"), scale=0.15, count=8, position=(0.0, -0.8, 0.0),
                               initial_velocity=(2.0, -3.0, 1.0))}
 

@@ -119,9 +119,10 @@ class EngineKernels:
             substep.place(plan, model, state, scratch, True, 1)
             for k in range(model.block_start.shape[0]):  # the blocks in parallel, summed in order below
                 scratch.block_energy[k] = stages.block_contact_energy(model, state, world, scratch, k, pairs)
-            stages.sum_energy_chunks(model, scratch)  # (off a CPU)
-            for w in range(rows.contact_energy.shape[1]):  # each world's on a thread of its own
-                rows.contact_energy[slot, w] = stages.world_energy_total(model, scratch, w)
+            worlds = rows.contact_energy.shape[1]
+            stages.sum_energy_chunks(model, scratch, worlds)  # (off a CPU)
+            for w in range(worlds):  # each world's on a thread of its own
+                rows.contact_energy[slot, w] = stages.world_energy_total(model, scratch, w, worlds)
             write_row(state, rows, slot)
 
         @ti.kernel

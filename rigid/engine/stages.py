@@ -162,14 +162,15 @@ def _chunks(K):
 
 
 @ti.func
-def sum_energy_chunks(model: ti.template(), scratch: ti.template()):
+def sum_energy_chunks(model: ti.template(), scratch: ti.template(), worlds):
     """Off a CPU, at a kernel's top level, one world: each chunk of ENERGY_CHUNK blocks' energies
     summed in order by a thread of its own, into the chunk's first slot (a GPU's one thread
     summing 20,000 blocks would wait on every load: by estimate, unmeasured); on a CPU, or with
     many worlds (each world's thread sums its own blocks), nothing (world_energy_total)."""
     if ti.static(not schedule.on_cpu()):
         K = model.block_start.shape[0]
-        one_world = ti.cast(model.body_world[0][3] == model.body_start.shape[0], ti.i32)
+        one_world = ti.cast(worlds == 1, ti.i32)  # (from the rows' shape: SPIR-V's scalarising pass
+        # failed on the world table's vector load in this kernel beside world_energy_total's)
         for c in range(_chunks(K) * one_world):
             total = 0.0
             for k in range(c * ENERGY_CHUNK, ti.min(K, (c + 1) * ENERGY_CHUNK)):
@@ -198,7 +199,7 @@ def world_contact_energy(model: ti.template(), state: ti.template(), world: ti.t
 
 
 @ti.func
-def world_energy_total(model: ti.template(), scratch: ti.template(), w):
+def world_energy_total(model: ti.template(), scratch: ti.template(), w, worlds):
     """World w's contact energy from the blocks' (scratch.block_energy), in a fixed order: its
     blocks' on a CPU or with many worlds, else (one world off a CPU) the chunks' sums
     (sum_energy_chunks)."""
@@ -207,7 +208,7 @@ def world_energy_total(model: ti.template(), scratch: ti.template(), w):
         first, end = world_blocks(model, w)
         for k in range(first, end):
             total += scratch.block_energy[k]
-    elif model.body_world[0][3] < model.body_start.shape[0]:  # many worlds
+    elif worlds > 1:
         first, end = world_blocks(model, w)
         for k in range(first, end):
             total += scratch.block_energy[k]
