@@ -64,16 +64,9 @@ def test_box_on_a_box_on_a_30_degree_ramp_holds():
 
 
 def _pair_springs(sim):
-    """{(i, j): the spring i keeps for its pair with j} over the lists' entries in use."""
-    from rigid.engine.arrays import download
+    from rigid.engine.pair_slip import springs_by_pair
 
-    arrays = sim._scratch_arrays
-    count, lists = download(arrays["nbr_count"]).ravel(), download(arrays["nbr_list"]).ravel()
-    K = len(lists) // len(count)
-    slips = download(sim.state.plane_slip)
-    slips = slips[len(slips) - 2 * len(lists):len(slips) - len(lists)]  # the current lists' (pair_slip.py)
-    return {(i, int(lists[i * K + t])): slips[i * K + t] for i in range(len(count)) if count[i] <= K
-            for t in range(count[i])}
+    return springs_by_pair(sim)
 
 
 def test_both_copies_of_a_spring_agree_and_rebuilds_carry_them():

@@ -118,13 +118,13 @@ def test_wake_and_a_parameter_change_wake_every_body(settled):
     assert not sim.asleep().any()
 
 
-def _free_space(sim_cache, sleep):
+def _free_space(sim_cache, sleep, settling=SETTLING):
     """Three spheres at rest in a row, 0.45 m apart (0.36 m wide with their particles' radius),
     and a fourth arriving at 1 m/s along the row, spinning (no gravity, no walls): the resting
     ones sleep at 0.5 s, before it arrives at ~0.85 s."""
     bodies = tuple(dict(position=(0.45 * k, 0.0, 0.0)) for k in range(3)) + (
         dict(position=(-1.2, 0.0, 0.0), initial_velocity=(1.0, 0.0, 0.0), initial_angular_velocity=(0.0, 0.0, 2.0)),)
-    return sim_cache(bodies=bodies, gravity=(0.0, 0.0, 0.0), walls=False, sleep=sleep, **SETTLING)
+    return sim_cache(bodies=bodies, gravity=(0.0, 0.0, 0.0), walls=False, sleep=sleep, **settling)
 
 
 def test_momentum_through_a_wake_and_the_same_bits_as_without_sleeping(sim_cache):

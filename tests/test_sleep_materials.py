@@ -3,7 +3,6 @@ restitution falls asleep exactly at rest and stays; until a first body sleeps, t
 with sleeping off; a moving body wakes the sleeper it hits, momentum conserved; and both copies of
 each pair's sticking spring (pair_slip.py) agree while one side rests and after it wakes."""
 import numpy as np
-import pytest
 
 from conftest import ASSETS
 
@@ -14,16 +13,9 @@ SETTLING = dict(mesh=SPHERE, scale=0.15, particle_mass=0.01, velocity_damping_st
 
 
 def _pair_springs(sim):
-    """{(i, j): the spring i keeps for its pair with j} over the lists' entries in use."""
-    from rigid.engine.arrays import download
+    from rigid.engine.pair_slip import springs_by_pair
 
-    arrays = sim._scratch_arrays
-    count, lists = download(arrays["nbr_count"]).ravel(), download(arrays["nbr_list"]).ravel()
-    K = len(lists) // len(count)
-    slips = download(sim.state.plane_slip)
-    slips = slips[len(slips) - 2 * len(lists):len(slips) - len(lists)]  # the current lists' (pair_slip.py)
-    return {(i, int(lists[i * K + t])): slips[i * K + t] for i in range(len(count)) if count[i] <= K
-            for t in range(count[i])}
+    return springs_by_pair(sim)
 
 
 def _agree(sim):
@@ -67,11 +59,10 @@ def test_a_materials_pile_sleeps_exactly_at_rest_and_until_then_keeps_the_bits(s
 
 
 def _free_space(sim_cache, sleep):
-    """test_sleep.py's row: three spheres at rest 0.45 m apart, a fourth arriving at 1 m/s along
-    the row, spinning (no gravity, no walls), with materials; the resting ones sleep at 0.5 s."""
-    bodies = tuple(dict(position=(0.45 * k, 0.0, 0.0)) for k in range(3)) + (
-        dict(position=(-1.2, 0.0, 0.0), initial_velocity=(1.0, 0.0, 0.0), initial_angular_velocity=(0.0, 0.0, 2.0)),)
-    return sim_cache(bodies=bodies, gravity=(0.0, 0.0, 0.0), walls=False, sleep=sleep, **SETTLING)
+    """test_sleep.py's row of three resting spheres and a fourth arriving, with materials."""
+    from test_sleep import _free_space as row
+
+    return row(sim_cache, sleep, SETTLING)
 
 
 def test_a_moving_body_wakes_the_sleeper_it_hits_and_momentum_is_kept(sim_cache):

@@ -120,22 +120,37 @@ def pair_force_damped(p_i, p_j, r_a, r_b, x_a, v_a, w_a, x_b, v_b, w_b, k, kd, k
 
 
 @ti.func
-def pair_contact(p_i, p_j, r_a, r_b, x_a, v_a, w_a, x_b, v_b, w_b, k, kd, kt, mu):
-    """Particle j (body b) on particle i (body a): (force on i, the contact point c, half the
-    pair's ½ k δ²); zeros when the spheres are apart. One evaluation serves both sides: j's
-    force is −force, at the same c (rigid.engine.pair_once)."""
-    force = ti.Vector.zero(float, 3)
+def _pair_frame(p_i, p_j, r_a, r_b, x_a, v_a, w_a, x_b, v_b, w_b):
+    """Two particles' spheres: (whether they overlap, the normal n from i to j, the overlap δ, the
+    contact point c in the middle of the overlap, j's velocity relative to i's at c); zeros
+    when apart (or at one point, where no normal exists)."""
+    touching = False
+    n = ti.Vector.zero(float, 3)
+    overlap = 0.0
     c = ti.Vector.zero(float, 3)
-    energy = 0.0
+    v_rel = ti.Vector.zero(float, 3)
     d = p_j - p_i
     dist2 = d.dot(d)
     reach = r_a + r_b
     if dist2 < reach * reach and dist2 > 0:
+        touching = True
         dist = ti.sqrt(dist2)
         n = d / dist
         overlap = reach - dist
         c = 0.5 * (p_i + p_j) + (0.5 * (r_a - r_b)) * n
         v_rel = (v_b + w_b.cross(c - x_b)) - (v_a + w_a.cross(c - x_a))
+    return touching, n, overlap, c, v_rel
+
+
+@ti.func
+def pair_contact(p_i, p_j, r_a, r_b, x_a, v_a, w_a, x_b, v_b, w_b, k, kd, kt, mu):
+    """Particle j (body b) on particle i (body a): (force on i, the contact point c, half the
+    pair's ½ k δ²); zeros when the spheres are apart. One evaluation serves both sides: j's
+    force is −force, at the same c (rigid.engine.pair_once)."""
+    force = ti.Vector.zero(float, 3)
+    energy = 0.0
+    touching, n, overlap, c, v_rel = _pair_frame(p_i, p_j, r_a, r_b, x_a, v_a, w_a, x_b, v_b, w_b)
+    if touching:
         vn = v_rel.dot(n)
         fn = ti.max(k * overlap - kd * vn, 0.0)
         # The relative velocity is j's relative to i: friction on i acts along +v_t.
@@ -153,18 +168,11 @@ def pair_contact_sticking(p_i, p_j, r_a, r_b, x_a, v_a, w_a, x_b, v_b, w_b, k, c
     where the spring alone holds μ f_n. Returns (force on i, the contact point, the new slip:
     zero when apart)."""
     force = ti.Vector.zero(float, 3)
-    point = ti.Vector.zero(float, 3)
     new_slip = ti.Vector.zero(float, 3)
-    d = p_j - p_i
-    dist2 = d.dot(d)
-    reach = r_a + r_b
-    if dist2 < reach * reach and dist2 > 0:
-        dist = ti.sqrt(dist2)
-        n = d / dist
-        point = 0.5 * (p_i + p_j) + (0.5 * (r_a - r_b)) * n
-        v_rel = (v_b + w_b.cross(point - x_b)) - (v_a + w_a.cross(point - x_a))
+    touching, n, overlap, point, v_rel = _pair_frame(p_i, p_j, r_a, r_b, x_a, v_a, w_a, x_b, v_b, w_b)
+    if touching:
         vn = v_rel.dot(n)
-        fn = ti.max(k * (reach - dist) - c * vn, 0.0)
+        fn = ti.max(k * overlap - c * vn, 0.0)
         # On j: the spring pulls it back to where the contact began; i gets the opposite.
         ft, new_slip = sticking_friction(slip, n, v_rel - vn * n, step, k, ct, mu, fn)
         force = -fn * n - ft

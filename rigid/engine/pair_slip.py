@@ -175,3 +175,15 @@ def grown(sim, num_particles, stride):
     upload(arrays["contacts"], np.concatenate([contacts[:counts], np.zeros(2 * K * N + N, contacts.dtype)]))
     state.args = StateArgs()(**{name: getattr(state, name) for name in StateArgs.NAMES})
     sim.scratch = ScratchArgs()(**{name: arrays[name] for name in ScratchArgs.NAMES})
+
+
+def springs_by_pair(sim) -> dict:
+    """{(i, j): the spring slot i keeps for its pair with slot j} over the lists' entries in use
+    (host, float of the run's precision; tests and diagnostics)."""
+    arrays = sim._scratch_arrays
+    count, lists = download(arrays["nbr_count"]).ravel(), download(arrays["nbr_list"]).ravel()
+    K = len(lists) // len(count)
+    slips = download(sim.state.plane_slip)
+    slips = slips[len(slips) - 2 * len(lists):len(slips) - len(lists)]  # the current lists' (_springs)
+    return {(i, int(lists[i * K + t])): slips[i * K + t] for i in range(len(count)) if count[i] <= K
+            for t in range(count[i])}
