@@ -128,7 +128,14 @@ def _free_space(sim_cache, sleep, settling=SETTLING):
 
 
 def test_momentum_through_a_wake_and_the_same_bits_as_without_sleeping(sim_cache):
-    on, off = _free_space(sim_cache, True), _free_space(sim_cache, False)
+    through_a_wake(sim_cache)
+
+
+def through_a_wake(sim_cache, settling=SETTLING, each_frame=lambda sim: None):
+    """The free-space row (``settling``'s spheres) with sleeping on and off: the resting spheres
+    sleep, the arriving one wakes the first, total P and L are kept, and the runs are the same
+    bits; ``each_frame(sim)`` checks the sleeping run after every frame."""
+    on, off = _free_space(sim_cache, True, settling), _free_space(sim_cache, False, settling)
     start = on.snapshot()
     P0, L0 = start["P"].sum(axis=0), (np.cross(start["x"], start["P"]) + start["L"]).sum(axis=0)
     slept = False
@@ -136,6 +143,7 @@ def test_momentum_through_a_wake_and_the_same_bits_as_without_sleeping(sim_cache
         on.step_frame()
         off.step_frame()
         slept |= bool(on.asleep()[:3].all())
+        each_frame(on)
     assert slept, "the resting spheres never slept: the test would prove nothing"
     assert not off.asleep().any()
     a, b = on.snapshot(), off.snapshot()
