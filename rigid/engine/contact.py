@@ -120,6 +120,22 @@ def pair_force_damped(p_i, p_j, r_a, r_b, x_a, v_a, w_a, x_b, v_b, w_b, k, kd, k
 
 
 @ti.func
+def lower_slot_first(i, j, p_i, r_i, x_i, v_i, w_i, p_j, r_j, x_j, v_j, w_j):
+    """The two sides of the pair of slots i and j, the lower slot's first, and the sign that turns
+    the force on the lower side into the force on i. Every pair is evaluated from its lower
+    slot's side whichever side asks, so the two sides get exactly opposite forces (the same
+    operations on the same numbers; LLVM contracts the law written from each side differently)."""
+    lo_p, lo_r, lo_x, lo_v, lo_w = p_i, r_i, x_i, v_i, w_i
+    hi_p, hi_r, hi_x, hi_v, hi_w = p_j, r_j, x_j, v_j, w_j
+    sign = 1.0
+    if j < i:
+        lo_p, lo_r, lo_x, lo_v, lo_w = p_j, r_j, x_j, v_j, w_j
+        hi_p, hi_r, hi_x, hi_v, hi_w = p_i, r_i, x_i, v_i, w_i
+        sign = -1.0
+    return lo_p, lo_r, lo_x, lo_v, lo_w, hi_p, hi_r, hi_x, hi_v, hi_w, sign
+
+
+@ti.func
 def _pair_frame(p_i, p_j, r_a, r_b, x_a, v_a, w_a, x_b, v_b, w_b):
     """Two particles' spheres: (whether they overlap, the normal n from i to j, the overlap δ, the
     contact point c in the middle of the overlap, j's velocity relative to i's at c); zeros

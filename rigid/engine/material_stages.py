@@ -19,7 +19,7 @@ from collections import namedtuple
 import taichi as ti
 
 from . import candidates, neighbours, pair_slip, sleep
-from .contact import pair_contact, pair_contact_sticking
+from .contact import lower_slot_first, pair_contact, pair_contact_sticking
 from .materials import normal_damping, pair_mu, pair_restitution, sticking_damping
 from .matvec import matvec
 from .stages import num_planes, planes_in_reach
@@ -85,13 +85,8 @@ def _material_pair(model: ti.template(), state: ti.template(), world: ti.templat
         mu = pair_mu(ma[0], mb[0], world.values[FRICTION])
         ct = sticking_damping(k, m_eff, dt)
         x_b, v_b, w_b = state.x[b], state.v[b], state.omega[b]
-        lo_p, lo_r, lo_x, lo_v, lo_w = p, r_a, x_a, v_a, w_a
-        hi_p, hi_r, hi_x, hi_v, hi_w = q, r_b, x_b, v_b, w_b
-        sign = 1.0
-        if j < i:
-            lo_p, lo_r, lo_x, lo_v, lo_w = q, r_b, x_b, v_b, w_b
-            hi_p, hi_r, hi_x, hi_v, hi_w = p, r_a, x_a, v_a, w_a
-            sign = -1.0
+        lo_p, lo_r, lo_x, lo_v, lo_w, hi_p, hi_r, hi_x, hi_v, hi_w, sign = lower_slot_first(
+            i, j, p, r_a, x_a, v_a, w_a, q, r_b, x_b, v_b, w_b)
         f_lo = ti.Vector.zero(float, 3)
         point = ti.Vector.zero(float, 3)
         # Both sides keep the spring, or neither: j's list may have overflowed (it walks the grid).

@@ -9,7 +9,7 @@ from collections import namedtuple
 import taichi as ti
 
 from . import candidates, motion, neighbours, refresh, schedule, sleep, stages
-from .contact import pair_contact
+from .contact import lower_slot_first, pair_contact
 
 
 @ti.func
@@ -104,13 +104,8 @@ def pair_between(model: ti.template(), state: ti.template(), i, p, r_a, x_a, v_a
         near = dist2 < reach * reach
     if near:
         x_b, v_b, w_b = state.x[b], state.v[b], state.omega[b]
-        lo_p, lo_r, lo_x, lo_v, lo_w = p, r_a, x_a, v_a, w_a
-        hi_p, hi_r, hi_x, hi_v, hi_w = p_j, r_b, x_b, v_b, w_b
-        sign = 1.0
-        if j < i:
-            lo_p, lo_r, lo_x, lo_v, lo_w = p_j, r_b, x_b, v_b, w_b
-            hi_p, hi_r, hi_x, hi_v, hi_w = p, r_a, x_a, v_a, w_a
-            sign = -1.0
+        lo_p, lo_r, lo_x, lo_v, lo_w, hi_p, hi_r, hi_x, hi_v, hi_w, sign = lower_slot_first(
+            i, j, p, r_a, x_a, v_a, w_a, p_j, r_b, x_b, v_b, w_b)
         f_lo, c, e = pair_contact(lo_p, hi_p, lo_r, hi_r, lo_x, lo_v, lo_w, hi_x, hi_v, hi_w, k, kd, kd, mu)
         f = sign * f_lo
     return f, c, e
