@@ -66,7 +66,7 @@ def run_frames(sim, frames: int | None, export_path=None, on_frame=None) -> RunR
     trajectory.append_block(start)
     e0, bound = _baseline(sim, start)
     result = RunResult(0, "done")
-    last = _row(start, 0)
+    last = row_of(start, 0)
     chunk = _ChunkSize(sim.rows.capacity if on_frame is None else 1)
     eta = TimeLeft(frames) if on_frame is None and frames is not None else None
     bar = FrameBar(frames, "simulating") if eta is not None else None  # after the first chunk (compiling)
@@ -96,7 +96,7 @@ def run_frames(sim, frames: int | None, export_path=None, on_frame=None) -> RunR
                     if export_path:
                         trajectory.append_block(block, index)
                     first = result.frames + index + 1
-                    last = _row(block, index - 1) if index else last
+                    last = row_of(block, index - 1) if index else last
                     result = RunResult(first - 1, "blew-up",
                                        f"blow-up at t = {block['t'][index]:.4g} s (frame {first}): {problem}; "
                                        f"{bad[2] if len(bad) > 2 else stability_hint(cfg)}")
@@ -104,7 +104,7 @@ def run_frames(sim, frames: int | None, export_path=None, on_frame=None) -> RunR
                 if export_path:  # rows are kept only for an export: a window left open stays in constant memory
                     trajectory.append_block(block)
                 result.frames += size
-                last = _row(block, size - 1)
+                last = row_of(block, size - 1)
                 if on_frame is not None and on_frame(sim, result.frames):
                     e0, bound = _baseline(sim, sim.current_block())
     except StopRun:
@@ -120,7 +120,7 @@ def run_frames(sim, frames: int | None, export_path=None, on_frame=None) -> RunR
     return result
 
 
-def _row(block: dict, index: int) -> dict:
+def row_of(block: dict, index: int) -> dict:
     """Row ``index`` of a block, as ``Simulator.snapshot`` gives it."""
     row = {key: value[index] for key, value in block.items()}
     row["t"] = float(row["t"])
@@ -169,7 +169,11 @@ def _sigint_between_chunks(active: bool):
 
 
 def _baseline(sim, block: dict) -> tuple[float, float]:
-    """Initial energy and blow-up bound, measured from a block of one row (the current state)."""
+    return baseline(block, sim.model.mass, sim.params.gravity)
+
+
+def baseline(block: dict, mass: float, gravity) -> tuple[float, float]:
+    """Initial energy and blow-up bound, measured from a block of one row (the current state) of
+    bodies of total ``mass`` (rigid.sweeps.batch: one world's)."""
     kinetic = float(block["kinetic_energy"][0])
-    gravity = sim.params.gravity
-    return kinetic + float(block["potential_energy"][0]), energy_bound(sim.model.mass, gravity, kinetic)
+    return kinetic + float(block["potential_energy"][0]), energy_bound(mass, gravity, kinetic)

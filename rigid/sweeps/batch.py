@@ -82,7 +82,7 @@ def _run_worlds(sim, configs: list, frames: int):
     escaped (checked as run_frames checks a single run)."""
     from ..run.diagnostics import Trajectory, first_blow_up
     from ..run.escape import first_escape
-    from ..run.runner import energy_bound
+    from ..run.runner import baseline, row_of
 
     W, per_world = len(configs), sim.num_bodies // len(configs)
     m = sim.model
@@ -94,10 +94,8 @@ def _run_worlds(sim, configs: list, frames: int):
                                 configs[w].fp64)
         first = _world(start, w)
         trajectory.append_block(first)
-        kinetic = float(first["kinetic_energy"][0])
-        e0 = kinetic + float(first["potential_energy"][0])
-        bound = energy_bound(float(m.body_mass_np[part].sum()), sim.params.gravity, kinetic)
-        worlds.append(dict(trajectory=trajectory, e0=e0, bound=bound, last=_row(first, 0)))
+        e0, bound = baseline(first, float(m.body_mass_np[part].sum()), sim.params.gravity)
+        worlds.append(dict(trajectory=trajectory, e0=e0, bound=bound, last=row_of(first, 0)))
     done = 0
     while done < frames:
         k = min(sim.rows.capacity, frames - done)
@@ -110,7 +108,7 @@ def _run_worlds(sim, configs: list, frames: int):
                 trouble.add(w)
                 continue
             world["trajectory"].append_block(part)
-            world["last"] = _row(part, k - 1)
+            world["last"] = row_of(part, k - 1)
         done += k
     written = {}
     with tempfile.TemporaryDirectory(prefix="rigid-batch-") as folder:
@@ -125,9 +123,3 @@ def _run_worlds(sim, configs: list, frames: int):
 def _world(block: dict, w: int) -> dict:
     """World w's rows of a many-worlds block, shaped as a single run's (the world axis dropped)."""
     return {key: (value if key == "t" else value[:, w]) for key, value in block.items()}
-
-
-def _row(block: dict, index: int) -> dict:
-    row = {key: value[index] for key, value in block.items()}
-    row["t"] = float(row["t"])
-    return row
