@@ -137,17 +137,12 @@ def update_body(plan: ti.template(), model: ti.template(), state: ti.template(),
     resting sleeper: nothing, sleep.py)."""
     if ti.static(plan.materials):
         material_stages.count_contacts(model, state, scratch, b)  # a sleeper's: as it fell asleep
-        if not material_stages.is_static(model, b):  # (a static body never sleeps)
-            if ti.static(plan.sleeping):
-                sleeping_update(plan, model, state, scratch, world, b, dt)
-            else:
-                F, tau = stages.body_wrench(model, scratch, b)
-                plan.update(plan.u, model, state, b, dt, F, tau)
-    elif ti.static(plan.sleeping):
-        sleeping_update(plan, model, state, scratch, world, b, dt)
-    else:
-        F, tau = stages.body_wrench(model, scratch, b)
-        plan.update(plan.u, model, state, b, dt, F, tau)
+    if not ti.static(plan.materials) or not material_stages.is_static(model, b):  # (a static body never sleeps)
+        if ti.static(plan.sleeping):
+            sleeping_update(plan, model, state, scratch, world, b, dt)
+        else:
+            F, tau = stages.body_wrench(model, scratch, b)
+            plan.update(plan.u, model, state, b, dt, F, tau)
 
 
 @ti.func
