@@ -46,8 +46,11 @@ def init_taichi(arch: str = "cpu", fp64: bool = False, debug: bool = False, quic
                                f"one precision and arch per process")
         return _initialised["backend"]
     fp = ti.f64 if fp64 else ti.f32
+    # cfg_optimization: Taichi's control-flow-graph passes (store-to-load forwarding, dead
+    # stores) grow steeply with a kernel's size: they took ~5/6 of a pile's first compile and
+    # bought nothing measurable at run time (report/bench_first_run.md), so they are off.
     common = dict(default_fp=fp, log_level=ti.WARN, offline_cache=True, debug=debug,
-                  random_seed=0, advanced_optimization=not quick_compile)
+                  random_seed=0, advanced_optimization=not quick_compile, cfg_optimization=False)
     if arch not in ARCHES:
         raise UserError(f"arch = {arch!r}: use one of {', '.join(ARCHES)}")
     backend = "cpu"
