@@ -14,26 +14,9 @@ an overflowed particle's order is the grid's fixed cell order). ``visit`` is a `
 arguments), so the walk costs what a hand-written loop costs, and ``ctx.f += ...`` in the
 visitor adds to the caller's local variable f.
 """
-from collections import namedtuple
-
 import taichi as ti
 
 from . import grid, neighbours
-
-
-_Overflow = namedtuple("_Overflow", "model scratch body visit ctx entries")
-
-
-@ti.func
-def _other_body(c: ti.template(), slot):
-    """each_candidate's overflow walk: a slot of the sorted grid is a candidate unless it is of
-    the particle's own body or of another world."""
-    b = c.scratch.sorted_body[slot]
-    if b != c.body and grid.same_world(c.model, b, c.body):
-        if ti.static(c.entries):
-            ti.static(c.visit)(c.ctx, c.scratch.sorted_particle[slot], -1)
-        else:
-            ti.static(c.visit)(c.ctx, c.scratch.sorted_particle[slot])
 
 
 ALL, ABOVE, BELOW = 0, 1, 2  # which of a listed particle's candidates each_candidate visits
@@ -60,21 +43,39 @@ def each_candidate(model: ti.template(), state: ti.template(), scratch: ti.templ
     BELOW, of a listed particle only the candidates above (below) slot i, found by bisection in
     the sorted list (the sweep's turns: pair_once.py, pair_parts.py); an overflowed one's all.
     With ``entries``, visit(ctx, j, e): e = i·K + t, the index of j's entry in i's list (and of
-    what arrays beside the lists keep for it: pair_slip.py), or −1 where the grid is walked."""
+    what arrays beside the lists keep for it: pair_slip.py), or −1 where the grid is walked.
+
+    Both ways are one loop with one call of ``visit``: a list is one range of entries, the grid
+    ROWS_AROUND ranges of sorted slots. Taichi inlines the visitor at each call, and the contact
+    laws are most of a kernel's code, so a second call would double what the kernel compiles."""
     stride = neighbours.list_stride(scratch, state)
     n = scratch.nbr_count[i]
-    if n <= stride:
-        base = i * stride
-        first, end = 0, n
+    listed = n <= stride
+    base = i * stride
+    first, end = 0, n
+    if listed:
         if ti.static(which == ABOVE):
             first = _first_above(scratch, base, n, i)
         elif ti.static(which == BELOW):
             end = _first_above(scratch, base, n, i)
+    g = ti.Vector([0, 0, 0])
+    ranges = 1
+    if not listed:
+        g = grid.particle_coords(scratch, model, i, scratch.build_x[i])
+        ranges = grid.ROWS_AROUND
+    for r in range(ranges):
+        if not listed:
+            first, end = grid.around_range(scratch, g, r)
         for t in range(first, end):
-            if ti.static(entries):
-                visit(ctx, scratch.nbr_list[base + t], base + t)
+            j, e = -1, -1
+            if listed:
+                j, e = scratch.nbr_list[base + t], base + t
             else:
-                visit(ctx, scratch.nbr_list[base + t])
-    else:
-        grid.each_slot_around(scratch, grid.particle_coords(scratch, model, i, scratch.build_x[i]), _other_body,
-                              ti.static(_Overflow(model, scratch, a, visit, ctx, entries)))
+                b = scratch.sorted_body[t]
+                if b != a and grid.same_world(model, b, a):
+                    j = scratch.sorted_particle[t]
+            if j >= 0:
+                if ti.static(entries):
+                    visit(ctx, j, e)
+                else:
+                    visit(ctx, j)
