@@ -38,7 +38,7 @@ def gpu_pipeline(monkeypatch):
 def test_the_gpu_pipeline_follows_the_serial_schedule(units, gpu_pipeline):
     from rigid.config import SimConfig
     from rigid.engine.launch import SplitLaunch
-    from rigid.engine.refresh_state import refreshes_so_far
+    from rigid.engine.broadphase_host import refreshes_so_far
     from rigid.engine.simulator import Simulator
 
     config = SimConfig(fp64=False, **PILE).validate()
@@ -64,12 +64,13 @@ def test_the_gpu_pipeline_follows_the_serial_schedule(units, gpu_pipeline):
 def test_the_spread_motion_test_takes_the_one_thread_tests_decisions(units):
     """motion.note_motion_spread (a GPU's motion test, parallel loops with atomic min, max and
     counts) against motion.note_motion (one thread) on the same states of a falling and
-    settling pile: the same flag, and for every body the same bound e_b (slot 13) and reach ρ'_b
-    (slot 14, where the test asks for it) to round-off: LLVM contracts the two kernels'
+    settling pile: the same flag, and for every body the same bound e_b (broadphase.MOTION) and
+    reach ρ'_b (REACH, where the test asks for it) to round-off: LLVM contracts the two kernels'
     arithmetic into FMAs differently, and Δx less the middle of the Δx cancels to a few ulps."""
     import taichi as ti
 
     from rigid.config import SimConfig
+    from rigid.engine import broadphase as bp
     from rigid.engine import motion
     from rigid.engine.arrays import ScratchArgs, StateArgs, download, upload
     from rigid.engine.simulator import Simulator
@@ -91,19 +92,22 @@ def test_the_spread_motion_test_takes_the_one_thread_tests_decisions(units):
     flags_seen = set()
     for _ in range(12):
         sim.advance_frames(5)
-        start = {name: download(arrays[name]).copy() for name in ("build_pose", "nbr_flags", "grid_params")}
+        start = {name: download(arrays[name]).copy()
+                 for name in ("broadphase_body_floats", "broadphase_ints", "broadphase_floats")}
         results = []
         for kernel in (one_thread, spread):
             for name, value in start.items():
                 upload(arrays[name], value)
             kernel(sim.state.args, sim.scratch)
-            results.append((download(arrays["nbr_flags"])[0], download(arrays["build_pose"]).copy()))
+            flags, table = download(arrays["broadphase_ints"]), download(arrays["broadphase_body_floats"])
+            results.append((flags[bp.REBUILD], table))
         (flag, pose), (flag_spread, pose_spread) = results
         assert flag == flag_spread, (sim.frame, flag, flag_spread)
-        allowed = start["grid_params"][2]  # the motion the decisions weigh e against
-        np.testing.assert_allclose(pose_spread[:, 13], pose[:, 13], rtol=0, atol=1e-5 * allowed, err_msg=str(sim.frame))
+        allowed = start["broadphase_floats"][bp.ALLOWED]  # the motion the decisions weigh e against
+        np.testing.assert_allclose(pose_spread[:, bp.MOTION], pose[:, bp.MOTION], rtol=0, atol=1e-5 * allowed,
+                                   err_msg=str(sim.frame))
         if flag == motion.MAYBE:
-            np.testing.assert_allclose(pose_spread[:, 14], pose[:, 14], rtol=1e-6, err_msg=str(sim.frame))
+            np.testing.assert_allclose(pose_spread[:, bp.REACH], pose[:, bp.REACH], rtol=1e-6, err_msg=str(sim.frame))
         flags_seen.add(int(flag))
         for name, value in start.items():  # the run goes on from its own state
             upload(arrays[name], value)

@@ -46,12 +46,11 @@ def test_grown_lists_give_the_bits_of_long_lists(sim_cache, monkeypatch, schedul
 def test_lists_grow_only_as_far_as_they_overflow(sim_cache, monkeypatch):
     """A flag raised before a chunk (here by hand, as a build outside a chunk could) is not taken
     for the chunk's own: lists that hold every candidate stay as they are."""
-    from rigid.engine import list_growth, neighbours
+    from rigid.engine import broadphase, broadphase_host, neighbours
 
     monkeypatch.setattr(neighbours, "NEIGHBOURS_PER_PARTICLE", 16)
     sim = sim_cache(**PILE)
-    flags = sim._scratch_arrays["nbr_flags"]
-    flags[flags.shape[0] - 1] = 1
+    broadphase_host.cell(sim._scratch_arrays, broadphase.OVERFLOW).value = 1
     sim.advance_frames(5)
     assert sim._scratch_arrays["nbr_list"].shape[0] == 16 * sim.num_particles
     assert sim.neighbour_counts().max() <= 16

@@ -12,6 +12,8 @@ from conftest import ASSETS
 def test_every_touching_pair_is_in_the_lists(sim_cache, schedule):
     """... on both schedules; and the active list (the slots the pair stage visits) is exactly
     the slots with a candidate, ascending (the parallel build writes it by chunks)."""
+    from rigid.engine.broadphase_host import active_list
+
     sim = sim_cache(mesh=str(ASSETS / "sphere.obj"), count=27, scale=0.15, position=(0.0, -0.8, 0.0),
                     particle_mass=0.01, velocity_damping_stiffness=12.0, friction_stiffness=0.4,
                     integrator="symplectic", sleep=False, initial_velocity=(1.5, 0.0, 1.0))  # thrown: many contacts
@@ -30,7 +32,7 @@ def test_every_touching_pair_is_in_the_lists(sim_cache, schedule):
         keep = (body[pairs[:, 0]] != body[pairs[:, 1]]) & (d < radius[pairs[:, 0]] + radius[pairs[:, 1]])
         counts = sim.neighbour_counts()
         lists = sim._scratch_arrays["nbr_list"].to_numpy().reshape(sim.num_particles, stride)
-        active = sim._scratch_arrays["active"].to_numpy()[:sim._scratch_arrays["nbr_flags"].to_numpy()[2]]
+        active = active_list(sim._scratch_arrays)
         assert np.array_equal(active, np.flatnonzero(counts > 0)), frame
         for i, j in pairs[keep]:
             for a, b in ((i, j), (j, i)):
@@ -91,12 +93,14 @@ def test_bodies_far_apart_rebuild_nothing_and_still_meet(sim_cache):
     while their bounding spheres are apart, then the lists are rebuilt as they close and the
     head-on collision exchanges their velocities (equal masses, elastic enough: the spring
     law's restitution is well above 0)."""
+    from rigid.engine import broadphase, broadphase_host
+
     sphere = str(ASSETS / "sphere.obj")
     sim = sim_cache(bodies=(dict(mesh=sphere, scale=0.15, position=(-0.7, 0.0, 0.0), initial_velocity=(3.0, 0.0, 0.0)),
                             dict(mesh=sphere, scale=0.15, position=(0.7, 0.0, 0.0))),
                     gravity=(0.0, 0.0, 0.0), particle_mass=0.01, velocity_damping_stiffness=1.0, friction_stiffness=0.0,
                     integrator="symplectic", sleep=False)
-    skin = float(sim._scratch_arrays["grid_params"].to_numpy()[1])
+    skin = broadphase_host.float_value(sim._scratch_arrays, broadphase.SKIN)
     rho = np.linalg.norm(sim.model.r0_np, axis=1).max()
     reach = 2 * rho + 2 * sim.model.radius_np.max()
     sim.step_frame()

@@ -70,17 +70,18 @@ def _pair_springs(sim):
 
 
 def test_both_copies_of_a_spring_agree_and_rebuilds_carry_them():
-    from rigid.engine.arrays import IntCell
+    from rigid.engine.broadphase import REBUILD
+    from rigid.engine.broadphase_host import cell
 
     runs = []
     for forced in (False, True):
         sim = _stack_on_ramp(0.9)
-        rebuild = IntCell(sim._scratch_arrays["nbr_flags"], 0)
+        rebuild = cell(sim._scratch_arrays, REBUILD)
         for _ in range(20):
             if forced:
                 rebuild.value = 1  # a rebuild at the next placement, whether or not anything moved
             sim.advance_frames(1)
-        builds = int(sim._scratch_arrays["nbr_flags"][1])
+        builds = sim.neighbour_builds
         runs.append((sim.snapshot(), _pair_springs(sim), builds))
     (s1, springs, builds1), (s2, _springs2, builds2) = runs
     stretched = [key for key, s in springs.items() if np.any(s != 0)]
@@ -112,7 +113,8 @@ def test_lists_that_grow_keep_their_springs():
     """Lists made twice as long while the upper box rests on its springs (what list_growth.py does
     after an overflow: pair_slip.grown lays the springs out anew, then the lists are rebuilt) give
     the bits of the run whose lists never grew."""
-    from rigid.engine.arrays import IntCell
+    from rigid.engine.broadphase import REBUILD
+    from rigid.engine.broadphase_host import cell
 
     whole = _stack_on_ramp(0.9)
     whole.advance_frames(20)
@@ -121,7 +123,7 @@ def test_lists_that_grow_keep_their_springs():
     stretched = sum(np.any(s != 0) for s in _pair_springs(grown).values())
     grown._lists._grow(grown)
     grown._lists._copy = None
-    IntCell(grown._scratch_arrays["nbr_flags"], 0).value = 1
+    cell(grown._scratch_arrays, REBUILD).value = 1
     assert grown._lists.stride(grown._scratch_arrays) == 32 and stretched >= 8
     grown.advance_frames(10)
     a, b = whole.snapshot(), grown.snapshot()

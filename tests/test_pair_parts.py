@@ -80,8 +80,9 @@ def _forces(sim):
 
 
 def test_parts_give_the_sweeps_forces(sim_cache):
-    from rigid.engine import part_cut
+    from rigid.engine import broadphase, part_cut
     from rigid.engine.arrays import download
+    from rigid.engine.broadphase_host import body_ints
 
     sim = sim_cache(**PILE)
     sim.schedule = "serial"
@@ -96,15 +97,14 @@ def test_parts_give_the_sweeps_forces(sim_cache):
     lists = download(sim._scratch_arrays["nbr_list"]).reshape(len(counts), -1)
     N = sim.num_particles
     for parts in (1, 2, 3):
-        B = sim.num_bodies
-        touches = download(sim._scratch_arrays["build_pose"])[:, 15]  # the last parts' counts (none at first)
+        touches = body_ints(sim._scratch_arrays, broadphase.TOUCHES)  # the last parts' counts (none at first)
         weights = sim.model.body_count_np + part_cut.TOUCH_WEIGHT * touches
         k["parts"](*args, parts)
         f, c = _forces(sim)
         assert np.abs(f - f0).max() <= 1e-5 * scale, (parts, np.abs(f - f0).max())
         assert np.abs(c - c0).max() <= 1e-5 * np.abs(c0).max(), parts
         assert np.abs(f.sum(0)).max() <= 1e-4 * scale  # every pair's two forces cancel
-        part = download(sim._scratch_arrays["nbr_flags"])[4 + 2 * B:4 + 3 * B]
+        part = body_ints(sim._scratch_arrays, broadphase.PART)
         assert np.array_equal(part, _expected_parts(sim.snapshot()["x"].astype(np.float32), weights, parts)), parts
         of = part[sim.particle_bodies()]
         listed = np.arange(lists.shape[1])[None, :] < np.minimum(counts, lists.shape[1])[:, None]
@@ -184,16 +184,16 @@ def test_the_cut_follows_the_weights_in_order_along_the_widest_axis(ti_cpu, bodi
     cuts, whatever the order it found them in)."""
     import taichi as ti
 
-    from rigid.engine import part_cut
+    from rigid.engine import broadphase, part_cut
 
-    class Holder:  # the two argument packs cut_bodies reads, as fields
+    class Holder:  # the argument packs cut_bodies reads, as fields
         pass
 
     model, state, scratch = Holder(), Holder(), Holder()
     model.body_count = ti.field(ti.i32, shape=bodies)
     state.x = ti.Vector.field(3, float, shape=bodies)
-    scratch.build_pose = ti.Vector.field(16, float, shape=bodies)
-    scratch.nbr_flags = ti.field(ti.i32, shape=6 + 3 * bodies)
+    scratch.broadphase_body_floats = ti.field(float, shape=(bodies, broadphase.BODY_FLOATS))
+    scratch.broadphase_body_ints = ti.field(ti.i32, shape=(broadphase.BODY_INTS, bodies + 1))
 
     @ti.kernel
     def cut(parts: ti.i32):
@@ -206,16 +206,16 @@ def test_the_cut_follows_the_weights_in_order_along_the_widest_axis(ti_cpu, bodi
         x = np.round(rng.normal(size=(bodies, 3)) * np.array([1.0, 3.0, 2.0])[np.roll(range(3), trial)], 1)
         x = x.astype(np.float32)
         counts = np.full(bodies, 42) if trial < 2 else rng.integers(1, 300, bodies)
-        touches = np.zeros(bodies) if trial % 2 == 0 else rng.integers(0, 40, bodies).astype(float)
+        touches = np.zeros(bodies, np.int32) if trial % 2 == 0 else rng.integers(0, 40, bodies).astype(np.int32)
         state.x.from_numpy(x)
         model.body_count.from_numpy(counts.astype(np.int32))
-        pose = np.zeros((bodies, 16), np.float32)
-        pose[:, 15] = touches
+        table = np.zeros((broadphase.BODY_INTS, bodies + 1), np.int32)
+        table[broadphase.TOUCHES, :bodies] = touches
         weights = counts + part_cut.TOUCH_WEIGHT * touches
         for parts in range(1, 8):
-            scratch.build_pose.from_numpy(pose)
+            scratch.broadphase_body_ints.from_numpy(table)
             cut(parts)
-            part = scratch.nbr_flags.to_numpy()[4 + 2 * bodies:4 + 3 * bodies]
+            part = scratch.broadphase_body_ints.to_numpy()[broadphase.PART, :bodies]
             assert np.array_equal(part, _expected_parts(x, weights, parts)), (trial, parts)
             if trial == 0:  # equal weights: equal counts (to one)
                 assert np.ptp(np.bincount(part, minlength=parts)) <= 1 or bodies < parts

@@ -26,8 +26,10 @@ def _counts(sim):
     """(full builds, refreshes, bodies refreshed since the last full build)."""
     from rigid.engine.arrays import download
 
-    flags, B = download(sim._scratch_arrays["nbr_flags"]), sim.num_bodies
-    return int(flags[1]), int(flags[6 + 5 * B]), int(flags[4 + 5 * B])
+    from rigid.engine import broadphase
+
+    flags = download(sim._scratch_arrays["broadphase_ints"])
+    return int(flags[broadphase.BUILDS]), int(flags[broadphase.REFRESHES]), int(flags[broadphase.REFRESHED_BODIES])
 
 
 @pytest.mark.parametrize("schedule", ["serial", "parallel"])
@@ -37,7 +39,7 @@ def test_refreshing_the_lists_keeps_the_bits_of_full_rebuilds(sim_cache, monkeyp
     _thin_skin(monkeypatch)
     runs = []
     monkeypatch.setattr(refresh, "BUILD_COST", 1e3)  # a refresh always cheaper than a full build
-    for fraction in (0.0, 1.0):  # never refresh (grid_params[4], set with the skin), or always may
+    for fraction in (0.0, 1.0):  # never refresh (broadphase.MAX_REFRESHED, set with the skin), or always may
         monkeypatch.setattr(refresh, "REFRESH_FRACTION", fraction)
         sim = sim_cache(**PILE)
         sim.schedule = schedule
@@ -68,10 +70,11 @@ def _listed_pairs(sim) -> set:
 
 def _near_at_references(sim, body, radius):
     """(pairs of other bodies' slots within reach + skin at their references, those at the edge)."""
+    from rigid.engine import broadphase, broadphase_host
     from rigid.engine.arrays import download
 
     reference = download(sim._scratch_arrays["build_x"]).astype(np.float64)
-    skin = float(download(sim._scratch_arrays["grid_params"])[1])
+    skin = broadphase_host.float_value(sim._scratch_arrays, broadphase.SKIN)
     near, doubtful = set(), set()
     for i, j in cKDTree(reference).query_pairs(2 * radius.max() + skin):
         if body[i] != body[j]:
@@ -85,6 +88,7 @@ def _near_at_references(sim, body, radius):
 
 @pytest.mark.parametrize("schedule", ["serial", "parallel"])  # parallel: the search side by side, apart
 def test_after_refreshes_each_list_holds_exactly_the_pairs_near_at_their_references(sim_cache, monkeypatch, schedule):
+    from rigid.engine import broadphase, broadphase_host
     from rigid.engine.arrays import download
 
     _thin_skin(monkeypatch)
@@ -96,7 +100,7 @@ def test_after_refreshes_each_list_holds_exactly_the_pairs_near_at_their_referen
     both_refreshed = one_refreshed = 0
     while sim.frame < 150 and min(both_refreshed, one_refreshed) < 4:  # until near pairs of two refreshed
         sim.step_frame()  # bodies (each found the other) and of one (it entered itself in the other's list)
-        refreshed = download(sim._scratch_arrays["nbr_flags"])[4 + 3 * B:4 + 4 * B] != 0
+        refreshed = broadphase_host.body_ints(sim._scratch_arrays, broadphase.REFRESH_STATE) != 0
         near, doubtful = _near_at_references(sim, body, radius)
         both_refreshed = sum(1 for i, j in near if refreshed[body[i]] and refreshed[body[j]])
         one_refreshed = sum(1 for i, j in near if refreshed[body[i]] != refreshed[body[j]])
@@ -110,7 +114,7 @@ def test_after_refreshes_each_list_holds_exactly_the_pairs_near_at_their_referen
     touching = {(i, j) for i, j in cKDTree(x).query_pairs(2 * radius.max())
                 if body[i] != body[j] and np.linalg.norm(x[i] - x[j]) < radius[i] + radius[j]}
     assert touching and touching <= listed
-    active = download(sim._scratch_arrays["active"])[:int(download(sim._scratch_arrays["nbr_flags"])[2])]
+    active = broadphase_host.active_list(sim._scratch_arrays)
     count = download(sim._scratch_arrays["nbr_count"])
     assert np.array_equal(active, np.flatnonzero(count > 0))  # the pair stage visits exactly these
 

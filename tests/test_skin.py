@@ -94,6 +94,7 @@ def test_a_sleepers_particles_are_placed_once_not_by_every_full_placement(sim_ca
     a frame's end nor a full rebuild (which place every other particle). The sleepers' particles
     are set to marked positions (8 float32 spacings off), then a frame runs with the lists rebuilt
     at its start: those still asleep keep them."""
+    from rigid.engine import broadphase_host
     from rigid.engine.arrays import download, upload
 
     sim = sim_cache(**{**PILE, "sleep": True})
@@ -106,7 +107,7 @@ def test_a_sleepers_particles_are_placed_once_not_by_every_full_placement(sim_ca
     marked = np.isin(body, sleepers)
     x[marked] += np.float32(1e-6)  # no placement computes these
     upload(sim.state.particle_x, x)
-    sim._scratch_arrays["nbr_flags"][0] = 1  # a full rebuild at the next placement
+    broadphase_host.request_rebuild(sim._scratch_arrays)  # a full rebuild at the next placement
     sim.step_frame()
     still = np.isin(body, np.flatnonzero(sim.asleep())) & marked
     assert still.sum() >= 3 * 42

@@ -19,7 +19,7 @@ SIZES = ((27, 0.15), (125, 0.15), (1000, 0.07), (8000, 0.035), (24000, 0.025))
 
 def pile_point(units, count: int, scale: float) -> dict:
     import taichi as ti
-    from rigid.engine.refresh_state import refreshes_so_far
+    from rigid.engine.broadphase_host import refreshes_so_far
     from rigid.engine.simulator import Simulator
 
     from .many import CONTACT_FRAME, _step_until, time_steps

@@ -18,7 +18,7 @@ import time
 def _kernels(units):
     import taichi as ti
 
-    from ..engine import force_loop, grid, neighbours, pair_once, pair_stages, schemes, stages
+    from ..engine import broadphase, force_loop, grid, neighbours, pair_once, pair_stages, schemes, stages
     from ..engine.arrays import ModelArgs, ScratchArgs, StateArgs, WorldArgs
 
     M, S, W, C = ModelArgs(), StateArgs(), WorldArgs(), ScratchArgs()
@@ -37,7 +37,7 @@ def _kernels(units):
         for _ in range(reps):
             grid.clear_and_count(scratch, model, state, 1)
             grid.finish_serial(scratch, model, state, 1)
-            scratch.nbr_flags[2] = 0
+            broadphase.put(scratch, broadphase.ACTIVE, 0)
             for i in range(state.particle_x.shape[0]):
                 neighbours.clear_list(scratch, i)
             for i in range(state.particle_x.shape[0]):
@@ -101,7 +101,7 @@ def profile(sim, settle_frames: int = 60, reps: int = 100) -> dict:
     whole substep as the engine runs it (its own schedule), for comparison."""
     import taichi as ti
 
-    from ..engine.refresh_state import refreshes_so_far
+    from ..engine.broadphase_host import refreshes_so_far
 
     key = id(sim.units)
     if key not in _CACHE:

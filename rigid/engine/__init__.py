@@ -20,9 +20,11 @@
                 it overflowed), which every pair consumer calls with a visitor; pair_slip.py:
                 with materials, each contact pair's sticking spring kept per list entry and
                 carried across rebuilds
-  contact.py    the one contact law; grid.py, scan.py, neighbours.py: the grid and neighbour lists;
+  contact.py    the one contact law; broadphase.py: the broadphase's named scalars and per-body
+                tables and their accessors (broadphase_host.py: the host's side); grid.py, scan.py,
+                neighbours.py: the grid and neighbour lists;
                 motion.py: when the lists must be rebuilt (each body's motion, the pairs near enough to touch);
-                refresh.py, refresh_search.py, refresh_state.py: only the moved bodies' lists rebuilt;
+                refresh.py, refresh_search.py: only the moved bodies' lists rebuilt;
                 list_growth.py: longer lists where one overflowed (the chunk run again); skin.py: the
                 lists' skin adapted to how often they are rebuilt
   sleep.py      bodies at rest stop being integrated until something touches them

@@ -13,12 +13,14 @@ scene, other sizes) reuses them:
 
 Each member is an ndarray of an element type and a number of dimensions; the element's
 float is the run's precision, so the types are made after ``ti.init`` (and cached). Model,
-State and World are documented in model.py and state.py, the grid's arrays in grid.py; the
-rest of ScratchArgs, per particle slot [N] (world frame): ``particle_f`` the pair force,
-``particle_couple`` the pairs' couple about the particle; per block [K]: ``block_energy`` its
-springs' energy (at a frame's end), ``block_wrench`` its share of F (0..2) and τ (3..5, about the
-body's centre of mass); [2B]: ``rk`` RK4's Y₀ (slots 0..B−1) and the weighted sum of
-its stages (slots B..2B−1), x, q, P, L packed in 13 numbers; with materials,
+State and World are documented in model.py and state.py, the grid's arrays in grid.py, the
+neighbour lists' in neighbours.py, the broadphase's scalars and per-body tables (named slots
+and columns, packed by kind and meaning) in broadphase.py; the rest of ScratchArgs, per
+particle slot [N] (world frame): ``particle_f`` the pair force, ``particle_couple`` the pairs'
+couple about the particle; per block [K]: ``block_energy`` its springs' energy (at a frame's
+end), ``block_wrench`` its share of F (0..2) and τ (3..5, about the body's centre of mass);
+[2B]: ``rk`` RK4's Y₀ (slots 0..B−1) and the weighted sum of its stages (slots B..2B−1), x, q,
+P, L packed in 13 numbers; with materials,
 ``contacts`` [N + 2K + 2B] i32: each particle's pair contacts, each block's plane and pair
 contacts, each body's of the last evaluation (material_stages.py; else one element; one
 array, as the x64 backend takes at most 64 argument elements: a kernel taking every pack is at
@@ -82,8 +84,9 @@ WorldArgs = _pack_type(dict(values=("f", 1), planes=("v4", 1), springs=("v16", 1
 ScratchArgs = _pack_type(dict(
     particle_f=("v3", 1), particle_couple=("v3", 1), block_energy=("f", 1), block_wrench=("v6", 1),
     cell_count=("i", 1), cell_start=("i", 1),
-    sorted_particle=("i", 1), sorted_x=("v3", 1), sorted_body=("i", 1), sorted_run_end=("i", 1), chunk_total=("i", 1), grid_dims=("i", 1), grid_params=("f", 1),
-    nbr_count=("i", 1), nbr_list=("i", 1), build_x=("v3", 1), nbr_flags=("i", 1), active=("i", 1), build_pose=("v16", 1),
+    sorted_particle=("i", 1), sorted_x=("v3", 1), sorted_body=("i", 1), sorted_run_end=("i", 1), chunk_total=("i", 1),
+    broadphase_ints=("i", 1), broadphase_floats=("f", 1), nbr_count=("i", 1), nbr_list=("i", 1), build_x=("v3", 1),
+    active=("i", 1), broadphase_body_ints=("i", 2), broadphase_body_floats=("f", 2),
     rk=("v13", 1), contacts=("i", 1)))
 
 RowArgs = _pack_type(dict(body=("f", 3), contact_energy=("f", 2)))

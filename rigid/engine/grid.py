@@ -21,14 +21,15 @@ consecutive in memory unless it wraps, so it is one range of sorted_particle.
 Scratch arrays (ScratchArgs): ``cell_count`` [C] i32 (then the scatter's cursors), ``cell_start`` [C + 1] i32,
 ``sorted_particle`` [N] i32, and in that sorted order copies of each particle's
 ``sorted_x`` [N] vec3 (world) and ``sorted_body`` [N] i32, and ``sorted_run_end`` [N] i32
-(mark_runs); ``grid_dims`` = (D, C, scan chunks) i32,
-``grid_params`` = (1/h, ...) float (neighbours.py uses the rest; scratch.grid_params makes them). ``GridShape`` sizes them on the host.
+(mark_runs); D, C and the scan's chunks, and 1/h, are broadphase.py's named scalars (GRID_DIM,
+GRID_CELLS, GRID_CHUNKS; INV_CELL). ``GridShape`` sizes them on the host.
 """
 
 from dataclasses import dataclass
 
 import taichi as ti
 
+from . import broadphase as bp
 from .scan import CHUNK, scan_parallel, scan_serial
 
 
@@ -67,12 +68,12 @@ class GridShape:
 @ti.func
 def cell_coords(s: ti.template(), p):
     """Integer cell coordinates (unwrapped) of a world point."""
-    return ti.floor(p * s.grid_params[0], ti.i32)
+    return ti.floor(p * bp.value(s, bp.INV_CELL), ti.i32)
 
 
 @ti.func
 def cell_index(s: ti.template(), ix, iy, iz):
-    D = s.grid_dims[0]
+    D = bp.get(s, bp.GRID_DIM)
     mask = D - 1
     return ((iz & mask) * D + (iy & mask)) * D + (ix & mask)
 
@@ -153,7 +154,7 @@ def gather_sorted(s: ti.template(), model: ti.template(), state: ti.template(), 
 
 @ti.func
 def clear_and_count(s: ti.template(), model: ti.template(), state: ti.template(), gate):
-    for c in range(s.grid_dims[1] * gate):
+    for c in range(bp.get(s, bp.GRID_CELLS) * gate):
         s.cell_count[c] = 0
     for i in range(state.particle_x.shape[0] * gate):
         count_particle(s, model, state, i)
@@ -162,7 +163,7 @@ def clear_and_count(s: ti.template(), model: ti.template(), state: ti.template()
 @ti.func
 def finish_serial(s: ti.template(), model: ti.template(), state: ti.template(), gate):
     """The rest of the build on one thread: scattering in slot order leaves every cell sorted."""
-    C, N = s.grid_dims[1] * gate, state.particle_x.shape[0] * gate
+    C, N = bp.get(s, bp.GRID_CELLS) * gate, state.particle_x.shape[0] * gate
     if gate:
         scan_serial(s.cell_count, s.cell_start, C)
     for c in range(C):
@@ -179,12 +180,13 @@ def finish_serial(s: ti.template(), model: ti.template(), state: ti.template(), 
 def finish_parallel(s: ti.template(), model: ti.template(), state: ti.template(), gate):
     """The rest of the build as top-level loops of a kernel (each runs in parallel); each cell is
     then sorted by slot and its copies gathered."""
-    scan_parallel(s.cell_count, s.cell_start, s.chunk_total, s.grid_dims[1] * gate, s.grid_dims[2] * gate)
-    for c in range(s.grid_dims[1] * gate):
+    scan_parallel(s.cell_count, s.cell_start, s.chunk_total, bp.get(s, bp.GRID_CELLS) * gate,
+                  bp.get(s, bp.GRID_CHUNKS) * gate)
+    for c in range(bp.get(s, bp.GRID_CELLS) * gate):
         s.cell_count[c] = s.cell_start[c]  # the counts are summed: reuse them as cursors
     for i in range(state.particle_x.shape[0] * gate):
         scatter_particle(s, model, state, i)
-    for c in range(s.grid_dims[1] * gate):
+    for c in range(bp.get(s, bp.GRID_CELLS) * gate):
         sort_cell(s, c)
         lo, hi = s.cell_start[c], s.cell_start[c + 1]
         for k in range(lo, hi):
@@ -196,7 +198,7 @@ def finish_parallel(s: ti.template(), model: ti.template(), state: ti.template()
 def row_range(s: ti.template(), ix, iy, iz, part):
     """The ``part``-th range of sorted_particle holding row (iy, iz)'s cells ix-1..ix+1: one range
     (part 0) where the row does not wrap, else one per cell (parts 0..2)."""
-    D = s.grid_dims[0]
+    D = bp.get(s, bp.GRID_DIM)
     lo, hi = 0, 0
     x = ix & (D - 1)
     if 1 <= x and x <= D - 2:

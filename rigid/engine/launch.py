@@ -20,7 +20,9 @@ not as expected it falls back to the plain call, which gives the same results.
 """
 from __future__ import annotations
 
-from .arrays import IntCell, _cpu_pointer, byte_size
+from . import broadphase
+from .arrays import _cpu_pointer, byte_size
+from .broadphase_host import cell
 from .refresh import PENDING
 from .threads import pin_workers
 
@@ -56,7 +58,7 @@ def schedule_launches(schedule: str, kernels, model, state, world, scratch, rows
     if schedule == "serial":
         return dict(run_frames=PreparedLaunch(kernels.run_frames, model, state, world, scratch, rows, 1, 1))
     pin_workers()  # one CPU worker to a core (threads.py), or a parallel loop often runs on one
-    rebuild = IntCell(scratch["nbr_flags"], 0)  # neighbours.rebuild_gate
+    rebuild = cell(scratch, broadphase.REBUILD)  # neighbours.rebuild_gate
     if kernels.split is not None and rebuild.on_cpu:  # the substep in parts: split_substep.py
         substep = SplitLaunch(kernels.split, rebuild, model, state, world, scratch)
     else:

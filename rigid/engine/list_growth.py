@@ -14,7 +14,7 @@ grow, the state is put back, and the chunk runs again with a rebuild at its star
 whose lists never overflowed gives the same bits whatever K and whenever its lists were
 rebuilt (every sum runs over the touching pairs in slot order), so the result is the run
 that had the larger K from the start, however the frames are chunked (tests/test_list_growth.py).
-The flag is nbr_flags' last element (neighbours.finish_list raises it).
+The flag is broadphase.OVERFLOW (neighbours.finish_list raises it).
 """
 from __future__ import annotations
 
@@ -23,8 +23,8 @@ import ctypes
 import numpy as np
 import taichi as ti
 
-from . import pair_slip
-from .arrays import IntCell, ScratchArgs, StateArgs, _cpu_pointer, byte_size, clear, download, upload, zeros
+from . import broadphase, broadphase_host, pair_slip
+from .arrays import ScratchArgs, StateArgs, _cpu_pointer, byte_size, clear, download, upload, zeros
 
 MAX_NEIGHBOURS = 64  # list slots per particle at most
 MAX_LIST_BYTES = 1 << 30  # and at most this much memory for the lists
@@ -47,8 +47,9 @@ class ListGrowth:
         while self.can_grow(sim._scratch_arrays):
             if self._copy is None:
                 self._copy = Snapshot(self._kept(sim))
-                flags = sim._scratch_arrays["nbr_flags"]
-                self._overflowed, self._rebuild = IntCell(flags, -1), IntCell(flags, 0)
+                arrays = sim._scratch_arrays
+                self._overflowed = broadphase_host.cell(arrays, broadphase.OVERFLOW)
+                self._rebuild = broadphase_host.cell(arrays, broadphase.REBUILD)
             self._overflowed.value = 0  # only this chunk's builds count
             self._copy.save()
             run_chunk()
@@ -61,12 +62,12 @@ class ListGrowth:
         run_chunk()
 
     # What a chunk changes and keeps: the bodies' state, the materials' springs on the planes and,
-    # of the scratch arrays, the lists' flags and build poses and the materials' contact counts;
+    # of the scratch arrays, the broadphase's counters and per-body tables and the materials' contact counts;
     # with materials, the lists and their pairs' springs too (the rebuild carries them: pair_slip.py).
     # The rest is rewritten by every substep, or by the rebuild that starts the chunk again, which
     # places every particle from its body's state (the same numbers a substep computes).
     _STATE = tuple(name for name in StateArgs.NAMES if name not in ("particle_x", "particle_v"))
-    _SCRATCH = ("nbr_flags", "build_pose", "contacts")
+    _SCRATCH = broadphase_host.KEPT + ("contacts",)
     _SPRINGS = ("nbr_count", "nbr_list")
 
     def _kept(self, sim) -> list:

@@ -6,15 +6,16 @@ they stay exact while no pair of particles that may touch now has closed by more
 skin. A particle of body b moved by Δx_b + ΔR_b r0; note_motion bounds that per body (e_b,
 relative to a common shift) and, when the two largest bounds sum past the skin,
 close_pairs_moved asks only the pairs of bodies whose bounding spheres overlap. The flag it
-raises is nbr_flags[0] (neighbours.py: 1 = rebuild at this placement; MAYBE while undecided;
-VIOLATED when a pair moved too far, which refresh.settle turns into a partial or a full build);
-each body's e_b and reach ρ'_b sit in slots 13 and 14 of its build_pose.
+raises is broadphase.REBUILD (1 = rebuild at this placement; MAYBE while undecided; VIOLATED
+when a pair moved too far, which refresh.settle turns into a partial or a full build); each
+body's e_b and reach ρ'_b are its broadphase.MOTION and REACH (broadphase.py).
 """
 import taichi as ti
 
-REDUCED = 6  # grid_params[6:15]: note_motion_spread's reductions (least Δx, largest Δx, first, second, ties)
+from . import broadphase as bp
+
 ROTATION_DEFECT = 1e-3  # _turn_norm: the orthogonality defect up to which R is taken for a rotation
-MAYBE = 2  # nbr_flags[0] while note_motion's rebuild is undecided (close_pairs_moved decides)
+MAYBE = 2  # broadphase.REBUILD while note_motion's rebuild is undecided (close_pairs_moved decides)
 VIOLATED = 3  # close_pairs_moved found a pair that moved too far (refresh.settle: a refresh or a full build)
 
 
@@ -50,11 +51,9 @@ def _turn_norm(R, R0):
 @ti.func
 def body_shift(scratch: ti.template(), state: ti.template(), b):
     """(Δx of body b since the last build, the bound _turn_norm(R, R_build) ρ_b)."""
-    pose = scratch.build_pose[b]
-    x, R = state.x[b], state.R[b]
-    dx = ti.Vector([x[0] - pose[0], x[1] - pose[1], x[2] - pose[2]])
-    R0 = ti.Matrix([[pose[3], pose[4], pose[5]], [pose[6], pose[7], pose[8]], [pose[9], pose[10], pose[11]]])
-    return dx, _turn_norm(R, R0) * pose[12]
+    x0, R0 = bp.reference_pose(scratch, b)
+    dx = state.x[b] - x0
+    return dx, _turn_norm(state.R[b], R0) * bp.body_radius(scratch, b)
 
 
 @ti.func
@@ -80,8 +79,8 @@ def note_motion(scratch: ti.template(), state: ti.template()):
     Δx, used before, left nearly all of it to the fallers: 6-14 % more rebuilds in the benchmark
     piles). While the two largest e sum to at most the skin, no pair can have closed by more;
     else ``close_pairs_moved`` looks at the pairs of bodies near enough to touch. Each body's
-    e is kept in its build_pose (slot 13) for that test, and then only a bound on its
-    particles' distance from its centre (slot 14). A NaN counts as moved (a rebuild at once)."""
+    e is kept (broadphase.MOTION) for that test, and then only a bound on its particles'
+    distance from its centre (REACH). A NaN counts as moved (a rebuild at once)."""
     B = state.x.shape[0]
     lo = ti.Vector([1e30, 1e30, 1e30], float)
     hi = -lo
@@ -93,18 +92,18 @@ def note_motion(scratch: ti.template(), state: ti.template()):
     first, second = 0.0, 0.0
     for b in range(B):
         e = _bound(scratch, state, b, c)
-        scratch.build_pose[b][13] = e
+        bp.set_body_float(scratch, b, bp.MOTION, e)
         if e > first:
             second = first
             first = e
         elif e > second:
             second = e
     if first >= 1e30:
-        scratch.nbr_flags[0] = 1
-    elif first + second > scratch.grid_params[2] and scratch.nbr_flags[0] == 0:
-        scratch.nbr_flags[0] = MAYBE  # close_pairs_moved decides, with each body's reach:
+        bp.put(scratch, bp.REBUILD, 1)
+    elif first + second > bp.value(scratch, bp.ALLOWED) and bp.get(scratch, bp.REBUILD) == 0:
+        bp.put(scratch, bp.REBUILD, MAYBE)  # close_pairs_moved decides, with each body's reach:
         for b in range(B):  # ‖R‖₂ <= 1 + ‖RᵀR − I‖_F (only then: most substeps end above)
-            scratch.build_pose[b][14] = reach_now(scratch, state, b)
+            bp.set_body_float(scratch, b, bp.REACH, reach_now(scratch, state, b))
 
 
 @ti.func
@@ -113,56 +112,56 @@ def note_motion_spread(scratch: ti.template(), state: ti.template()):
     passes over 10,000 bodies would wait on every load (milliseconds a substep by estimate; no
     GPU has measured it). The same decisions and e_b to round-off: the least and largest Δx,
     the largest e and the count of its ties are exact whatever the order (atomic min, max and
-    add in grid_params[REDUCED:]), and the second largest is the largest below the first, or the
+    add in broadphase.SHIFT_LO ... E_TIES), and the second largest is the largest below the first, or the
     first itself if it is tied (tests/test_gpu_pipeline.py)."""
     ti.loop_config(serialize=True)
     for _ in range(1):
         for k in ti.static(range(3)):
-            scratch.grid_params[REDUCED + k] = 1e30
-            scratch.grid_params[REDUCED + 3 + k] = -1e30
-        for k in ti.static(range(6, 9)):
-            scratch.grid_params[REDUCED + k] = 0.0
+            bp.set_value(scratch, bp.SHIFT_LO[k], 1e30)
+            bp.set_value(scratch, bp.SHIFT_HI[k], -1e30)
+        for what in ti.static((bp.E_FIRST, bp.E_SECOND, bp.E_TIES)):
+            bp.set_value(scratch, what, 0.0)
     for b in range(state.x.shape[0]):
         dx, _turn = body_shift(scratch, state, b)
         for k in ti.static(range(3)):
-            ti.atomic_min(scratch.grid_params[REDUCED + k], dx[k])
-            ti.atomic_max(scratch.grid_params[REDUCED + 3 + k], dx[k])
+            bp.lower_value(scratch, bp.SHIFT_LO[k], dx[k])
+            bp.raise_value(scratch, bp.SHIFT_HI[k], dx[k])
     for b in range(state.x.shape[0]):
-        c = ti.Vector([0.5 * (scratch.grid_params[REDUCED + k] + scratch.grid_params[REDUCED + 3 + k])
+        c = ti.Vector([0.5 * (bp.value(scratch, bp.SHIFT_LO[k]) + bp.value(scratch, bp.SHIFT_HI[k]))
                        for k in ti.static(range(3))])
         e = _bound(scratch, state, b, c)
-        scratch.build_pose[b][13] = e
-        ti.atomic_max(scratch.grid_params[REDUCED + 6], e)
+        bp.set_body_float(scratch, b, bp.MOTION, e)
+        bp.raise_value(scratch, bp.E_FIRST, e)
     for b in range(state.x.shape[0]):
-        e = scratch.build_pose[b][13]
-        if e == scratch.grid_params[REDUCED + 6]:
-            ti.atomic_add(scratch.grid_params[REDUCED + 8], 1.0)
+        e = bp.body_float(scratch, b, bp.MOTION)
+        if e == bp.value(scratch, bp.E_FIRST):
+            bp.add_value(scratch, bp.E_TIES, 1.0)
         else:
-            ti.atomic_max(scratch.grid_params[REDUCED + 7], e)
+            bp.raise_value(scratch, bp.E_SECOND, e)
     ti.loop_config(serialize=True)
     for _ in range(1):
-        first, second = scratch.grid_params[REDUCED + 6], scratch.grid_params[REDUCED + 7]
-        if scratch.grid_params[REDUCED + 8] >= 2.0:
+        first, second = bp.value(scratch, bp.E_FIRST), bp.value(scratch, bp.E_SECOND)
+        if bp.value(scratch, bp.E_TIES) >= 2.0:
             second = first
         if first >= 1e30:
-            scratch.nbr_flags[0] = 1
-        elif first + second > scratch.grid_params[2] and scratch.nbr_flags[0] == 0:
-            scratch.nbr_flags[0] = MAYBE
+            bp.put(scratch, bp.REBUILD, 1)
+        elif first + second > bp.value(scratch, bp.ALLOWED) and bp.get(scratch, bp.REBUILD) == 0:
+            bp.put(scratch, bp.REBUILD, MAYBE)
     for b in range(state.x.shape[0] * motion_undecided(scratch)):
-        scratch.build_pose[b][14] = reach_now(scratch, state, b)
+        bp.set_body_float(scratch, b, bp.REACH, reach_now(scratch, state, b))
 
 
 @ti.func
 def reach_now(scratch: ti.template(), state: ti.template(), b):
-    """ρ'_b >= the distance of body b's particles from its centre now: ρ_b (build_pose slot 12)
+    """ρ'_b >= the distance of body b's particles from its centre now: ρ_b (broadphase.RHO)
     stretched by R's orthogonality defect (‖R‖₂ <= 1 + ‖RᵀR − I‖_F) and a margin for round-off."""
-    return scratch.build_pose[b][12] * (1.0 + _defect(state.R[b])) * (1.0 + 1e-5)
+    return bp.body_radius(scratch, b) * (1.0 + _defect(state.R[b])) * (1.0 + 1e-5)
 
 
 @ti.func
 def motion_undecided(scratch: ti.template()):
     """1 when note_motion left the rebuild to close_pairs_moved, else 0."""
-    return ti.cast(scratch.nbr_flags[0] == MAYBE, ti.i32)
+    return ti.cast(bp.get(scratch, bp.REBUILD) == MAYBE, ti.i32)
 
 
 @ti.func
@@ -175,28 +174,15 @@ def close_pairs_moved(model: ti.template(), state: ti.template(), scratch: ti.te
     the side with the larger e (ties: the lower index), whose e then exceeds half the skin: so
     a body that moves alone, far from the others, rebuilds nothing, and a substep with no fast
     body costs one comparison a body. Any order (threads may run it): it only raises the flag."""
-    allowed = scratch.grid_params[2]
-    pose_a = scratch.build_pose[a]
-    e_a = pose_a[13]
-    if e_a > 0.5 * allowed and scratch.nbr_flags[0] == MAYBE:  # (once raised, the others need not look)
-        x_a, reach_a = state.x[a], pose_a[14] + model.particle_radius[a]
+    allowed = bp.value(scratch, bp.ALLOWED)
+    e_a = bp.body_float(scratch, a, bp.MOTION)
+    if e_a > 0.5 * allowed and bp.get(scratch, bp.REBUILD) == MAYBE:  # (once raised, the others need not look)
+        x_a, reach_a = state.x[a], bp.body_float(scratch, a, bp.REACH) + model.particle_radius[a]
         world = model.body_world[a]
         for b in range(world[2], world[2] + world[3]):  # a's world's bodies
-            pose_b = scratch.build_pose[b]
-            e_b = pose_b[13]
+            e_b = bp.body_float(scratch, b, bp.MOTION)
             if b != a and e_a + e_b > allowed and (e_b < e_a or (e_b == e_a and b > a)):
                 d = state.x[b] - x_a
-                reach = (reach_a + pose_b[14] + model.particle_radius[b]) * (1.0 + 1e-5)
+                reach = (reach_a + bp.body_float(scratch, b, bp.REACH) + model.particle_radius[b]) * (1.0 + 1e-5)
                 if d.dot(d) < reach * reach:
-                    scratch.nbr_flags[0] = VIOLATED
-
-
-@ti.func
-def keep_build_pose(scratch: ti.template(), state: ti.template(), b):
-    x, R = state.x[b], state.R[b]
-    pose = scratch.build_pose[b]
-    for c in ti.static(range(3)):
-        pose[c] = x[c]
-    for r, c in ti.static(ti.ndrange(3, 3)):
-        pose[3 + 3 * r + c] = R[r, c]
-    scratch.build_pose[b] = pose  # ρ_b (pose[12]) kept
+                    bp.put(scratch, bp.REBUILD, VIOLATED)

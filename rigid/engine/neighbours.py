@@ -22,29 +22,15 @@ The host then doubles K and runs the chunk again (list_growth.py).
 
 Scratch arrays (ScratchArgs): ``nbr_count`` [N] i32, ``nbr_list`` [N·K] i32 (particle slots),
 ``build_x`` [N] vec3 (each particle's reference: its world position at the last build, or at
-its body's last refresh, refresh.py), ``active`` [N] i32 (the slots with a candidate, first
-nbr_flags[2] of them), ``nbr_flags`` [14 + 5B] i32 (one array, as the x64 backend takes at most
-64 argument elements):
-  [0] 1: rebuild at the next placement (MAYBE, VIOLATED while the motion test decides:
-      motion.py; refresh.PENDING while a refresh searches); [1] builds so far; [2] active particles;
-  per body b: [3 + b] = 1 when b sleeps and a body that does not rest has it in its lists;
-      [3 + B + b] .. [3 + B + b + 1] its run of the active list, on one thread (pair_once.py);
-      [4 + 2B + b] its part of the pair stage (the parallel schedule on a CPU, each substep:
-      part_cut.py);
-  [4 + 3B] .. [11 + 5B] the partial rebuilds' (refresh_state.py);
-  the last two: 1 when a body is asleep (each substep: pair_parts.py), 1 once a list
-      overflowed (list_growth.py).
-``grid_params`` [1], [2] = the skin, the relative motion allowed before a rebuild (the skin
-less 2 % for round-off); per body [B]: ``build_pose`` = its x (3) and R (9, row by row) at the
-last build or refresh, ρ_b, its largest |r0|, then (motion.note_motion, each substep) e_b, the
-bound on its particles' motion since then, and (when it asks close_pairs_moved) ρ'_b >= its
-particles' distance from its centre now, then its touching particles (part_cut.py; 16
-floats).
+its body's last refresh, refresh.py), ``active`` [N] i32 (the slots with a candidate, the first
+broadphase.ACTIVE of them). The rebuild flag, the counts, the skin and each body's reference
+pose and motion bounds: broadphase.py's named slots.
 """
 from collections import namedtuple
 
 import taichi as ti
 
+from . import broadphase as bp
 from . import grid, scan, schedule
 
 NEIGHBOURS_PER_PARTICLE = 16  # list slots per particle to start with (list_growth.py doubles them where needed)
@@ -55,20 +41,20 @@ ALLOWED_MOTION = 0.98  # × the skin: two particles' relative motion before a re
 @ti.func
 def start_build(scratch: ti.template()):
     """Empty the active list if a build follows (a top-level statement: no loop)."""
-    scratch.nbr_flags[2] *= 1 - scratch.nbr_flags[0]
+    bp.put(scratch, bp.ACTIVE, bp.get(scratch, bp.ACTIVE) * (1 - bp.get(scratch, bp.REBUILD)))
 
 
 @ti.func
 def num_active(scratch: ti.template()):
     """Particles with a candidate at the last build (the pair stage visits only these)."""
-    return scratch.nbr_flags[2]
+    return bp.get(scratch, bp.ACTIVE)
 
 
 @ti.func
 def rebuild_gate(scratch: ti.template()):
     """1 when the lists must be rebuilt this substep, else 0: the build's loops run over
     ``n * gate`` items, so that in a parallel kernel they stay top-level loops."""
-    return scratch.nbr_flags[0]
+    return bp.get(scratch, bp.REBUILD)
 
 
 @ti.func
@@ -118,7 +104,7 @@ def build_own_list(model: ti.template(), state: ti.template(), scratch: ti.templ
     runs it (the half shell's appends to the other side's list, atomics on other particles'
     counts, made Taichi's SPIR-V code skip some particles' stores on Vulkan/lavapipe)."""
     a = model.particle_body[i]
-    p, r_a, skin = state.particle_x[i], model.particle_radius[a], scratch.grid_params[1]
+    p, r_a, skin = state.particle_x[i], model.particle_radius[a], bp.value(scratch, bp.SKIN)
     stride = list_stride(scratch, state)
     n = 0
     grid.each_slot_around(scratch, grid.particle_coords(scratch, model, i, p), _append_near,
@@ -134,7 +120,7 @@ def build_half_shell(model: ti.template(), state: ti.template(), scratch: ti.tem
     lists; other bodies' particles within reach + skin."""
     a = model.particle_body[i]
     p, r_a = state.particle_x[i], model.particle_radius[a]
-    skin = scratch.grid_params[1]
+    skin = bp.value(scratch, bp.SKIN)
     stride = list_stride(scratch, state)
     g = grid.particle_coords(scratch, model, i, p)
     for dz in range(0, 2):
@@ -176,10 +162,10 @@ def finish_list(state: ti.template(), scratch: ti.template(), i, parallel: ti.te
             k -= 1
         scratch.nbr_list[base + k + 1] = value
     if scratch.nbr_count[i] > stride:  # it walks the grid: the lists may grow (list_growth.py)
-        scratch.nbr_flags[scratch.nbr_flags.shape[0] - 1] = 1
+        bp.put(scratch, bp.OVERFLOW, 1)
     if scratch.nbr_count[i] > 0:  # visited by the pair stage until the next build
         if ti.static(not parallel):
-            scratch.active[ti.atomic_add(scratch.nbr_flags[2], 1)] = i
+            scratch.active[bp.claim_active(scratch)] = i
     else:  # never visited: no pair force until the next build
         no_pair_force(scratch, i)
 
@@ -194,7 +180,7 @@ def no_pair_force(scratch: ti.template(), i):
 @ti.func
 def _active_chunk(state: ti.template(), scratch: ti.template(), k):
     """Chunk k of the slots for list_active (as many chunks as the grid's scan has)."""
-    n, chunks = state.particle_x.shape[0], scratch.grid_dims[2]
+    n, chunks = state.particle_x.shape[0], bp.get(scratch, bp.GRID_CHUNKS)
     return chunk_start(n, chunks, k), chunk_start(n, chunks, k + 1)
 
 
@@ -220,7 +206,7 @@ def list_active(state: ti.template(), scratch: ti.template(), gate, parallel: ti
 
 @ti.func
 def _list_active(state: ti.template(), scratch: ti.template(), gate):
-    chunks = scratch.grid_dims[2] * gate
+    chunks = bp.get(scratch, bp.GRID_CHUNKS) * gate
     for k in range(chunks):
         lo, hi = _active_chunk(state, scratch, k)
         total = 0
@@ -237,14 +223,14 @@ def _list_active(state: ti.template(), scratch: ti.template(), gate):
                 scratch.active[t] = i
                 t += 1
         if k == chunks - 1:
-            scratch.nbr_flags[2] = t
+            bp.put(scratch, bp.ACTIVE, t)
 
 
 @ti.func
 def clear_flag(scratch: ti.template()):
-    """After a build (or none): count it (nbr_flags[1], for benchmarks) and lower the flag."""
-    scratch.nbr_flags[1] += scratch.nbr_flags[0]
-    scratch.nbr_flags[0] = 0
+    """After a build (or none): count it (BUILDS, for benchmarks) and lower the flag."""
+    bp.put(scratch, bp.BUILDS, bp.get(scratch, bp.BUILDS) + bp.get(scratch, bp.REBUILD))
+    bp.put(scratch, bp.REBUILD, 0)
 
 
 @ti.func
@@ -256,33 +242,11 @@ def index_active_by_body(model: ti.template(), state: ti.template(), scratch: ti
     n = num_active(scratch)
     t = 0
     for b in range(B):
-        scratch.nbr_flags[3 + B + b] = t
+        bp.set_body_int(scratch, b, bp.RUN_START, t)
         end = model.body_start[b] + model.body_count[b]
         while t < n and scratch.active[t] < end:
             t += 1
-    scratch.nbr_flags[3 + 2 * B] = n
-
-
-@ti.func
-def body_active_range(state: ti.template(), scratch: ti.template(), b):
-    """(first, end) of body b's run of the active list (index_active_by_body, one thread)."""
-    B = state.x.shape[0]
-    return scratch.nbr_flags[3 + B + b], scratch.nbr_flags[3 + B + b + 1]
-
-
-@ti.func
-def see_sleeper(scratch: ti.template(), b):
-    scratch.nbr_flags[3 + b] = 1
-
-
-@ti.func
-def unsee_sleeper(scratch: ti.template(), b):
-    scratch.nbr_flags[3 + b] = 0
-
-
-@ti.func
-def seen_sleeper(scratch: ti.template(), b):
-    return scratch.nbr_flags[3 + b] != 0
+    bp.set_body_int(scratch, B, bp.RUN_START, n)
 
 
 @ti.func

@@ -33,7 +33,8 @@ from collections import namedtuple
 
 import taichi as ti
 
-from . import candidates, neighbours, part_cut, sleep, stages
+from . import broadphase as bp
+from . import candidates, neighbours, sleep, stages
 from .pair_stages import pair_between
 
 
@@ -65,7 +66,7 @@ def _note_sleeper(c: ti.template(), j):
     ``waker`` (a moving body) marks it woken if j overlaps the particle at p."""
     b = c.model.particle_body[j]
     if sleep.asleep(c.state, b):
-        neighbours.see_sleeper(c.scratch, b)
+        bp.see_sleeper(c.scratch, b)
         if c.waker and overlap(c.state, c.model, c.p, c.r_a, j):
             sleep.mark_woken(c.state, b)
 
@@ -90,12 +91,12 @@ def mark_woken(model: ti.template(), state: ti.template(), world: ti.template(),
     for b in range(state.x.shape[0]):
         if not sleep.asleep(state, b):
             waker = sleep.moving(state, world, scratch, b)
-            first, end = neighbours.body_active_range(state, scratch, b)
+            first, end = bp.body_active_range(scratch, b)
             for t in range(first, end):
                 _note_sleepers(model, state, scratch, scratch.active[t], b, waker)
     for b in range(state.x.shape[0]):
         if sleep.asleep(state, b) and not sleep.resting(state, b):  # woken just now
-            first, end = neighbours.body_active_range(state, scratch, b)
+            first, end = bp.body_active_range(scratch, b)
             for t in range(first, end):
                 _note_sleepers(model, state, scratch, scratch.active[t], b, False)
 
@@ -105,7 +106,7 @@ def _visited(state: ti.template(), scratch: ti.template(), b, sleeping: ti.templ
     """Whether the sweep visits body b: it does not rest, or a body that does not saw it."""
     visit = True
     if ti.static(sleeping):
-        visit = not sleep.resting(state, b) or neighbours.seen_sleeper(scratch, b)
+        visit = not sleep.resting(state, b) or bp.seen_sleeper(scratch, b)
     return visit
 
 
@@ -130,7 +131,7 @@ def touching(f):
 def gives_to(model: ti.template(), state: ti.template(), scratch: ti.template(), j, part):
     """Whether a sweep's turn gives a pair's −f to slot j: always on one thread (``part`` −1), else
     only within the turn's part (pair_parts.py: another part collects it)."""
-    return part < 0 or part_cut.part_of(state, scratch, model.particle_body[j]) == part
+    return part < 0 or bp.part_of(scratch, model.particle_body[j]) == part
 
 
 @ti.func
@@ -153,16 +154,16 @@ def sweep(model: ti.template(), state: ti.template(), world: ti.template(), scra
     if ti.static(sleeping):
         for b in range(state.x.shape[0]):
             if _visited(state, scratch, b, sleeping):
-                first, end = neighbours.body_active_range(state, scratch, b)
+                first, end = bp.body_active_range(scratch, b)
                 for t in range(first, end):
                     scratch.particle_f[scratch.active[t]] = zero
                     scratch.particle_couple[scratch.active[t]] = zero
         for b in range(state.x.shape[0]):
             if _visited(state, scratch, b, sleeping):
                 a_rests = sleep.resting(state, b)
-                neighbours.unsee_sleeper(scratch, b)  # all zero again after every sweep
+                bp.unsee_sleeper(scratch, b)  # all zero again after every sweep
                 body = (model.particle_radius[b], state.x[b], state.v[b], state.omega[b])  # read once a body
-                first, end = neighbours.body_active_range(state, scratch, b)
+                first, end = bp.body_active_range(scratch, b)
                 for t in range(first, end):
                     sweep_particle(model, state, scratch, scratch.active[t], b, a_rests, body, k, kd, mu, stride,
                                    sleeping, -1)
@@ -212,7 +213,7 @@ def sweep_particle(model: ti.template(), state: ti.template(), scratch: ti.templ
     if listed:
         f = scratch.particle_f[i]  # the pairs with lower slots, given in their turns
         couple = scratch.particle_couple[i]
-    reach_max = r_a + scratch.grid_params[3]
+    reach_max = r_a + bp.largest_radius(scratch)
     candidates.each_candidate(model, state, scratch, i, a, _sweep_pair,
                               ti.static(SweepTurn(model, state, scratch, i, p, r_a, x_a, v_a, w_a, a_rests, k, kd, mu,
                                                   reach_max, stride, sleeping, part, listed, f, couple)),

@@ -37,6 +37,7 @@ from collections import namedtuple
 
 import taichi as ti
 
+from . import broadphase as bp
 from . import candidates, neighbours, pair_once, pair_stages, part_cut, schedule, sleep, stages
 from .pair_once import give, sweep_particle, touching
 from .pair_stages import pair_between
@@ -58,10 +59,9 @@ def parts_here() -> int:
 def prepare(model: ti.template(), state: ti.template(), scratch: ti.template(), parts: ti.template(),
             sleeping: ti.template()):
     """On one thread, before the parts: with ``sleeping``, the mode (0 if no body is asleep now, 1
-    if a few are, 2 if one in MANY_ASLEEP or more), kept in nbr_flags (neighbours.py) and read
-    back, as a top-level loop hands its result to the next through memory; unless the mode is 2
-    (no parts), the bodies cut into parts (part_cut.py)."""
-    slot = scratch.nbr_flags.shape[0] - 2
+    if a few are, 2 if one in MANY_ASLEEP or more), kept in broadphase.SLEEP_MODE and read back,
+    as a top-level loop hands its result to the next through memory; unless the mode is 2 (no
+    parts), the bodies cut into parts (part_cut.py)."""
     ti.loop_config(serialize=True)
     for _ in range(1):
         mode = 0
@@ -74,10 +74,10 @@ def prepare(model: ti.template(), state: ti.template(), scratch: ti.template(), 
                 mode = 1
             if count * MANY_ASLEEP >= state.x.shape[0]:
                 mode = 2
-        scratch.nbr_flags[slot] = mode
+        bp.put(scratch, bp.SLEEP_MODE, mode)
         if mode != 2:
             part_cut.cut_bodies(model, state, scratch, parts)
-    return scratch.nbr_flags[slot]
+    return bp.get(scratch, bp.SLEEP_MODE)
 
 
 WakeCheck = namedtuple("WakeCheck", "model state world scratch body p r")
@@ -117,7 +117,7 @@ def _collect(c: ti.template(), j):
     own sweep turn computes it (from j's side: pair_between evaluates from the lower slot)."""
     if j < c.i:
         b = c.model.particle_body[j]
-        if part_cut.part_of(c.state, c.scratch, b) != c.part and pair_once.wanted(c.model, c.state, c.i_rests, j,
+        if bp.part_of(c.scratch, b) != c.part and pair_once.wanted(c.model, c.state, c.i_rests, j,
                                                                                   c.sleeping):
             r_b = c.model.particle_radius[b]
             fj, contact, _e = pair_between(c.model, c.state, j, c.state.particle_x[j], r_b, c.state.x[b], c.state.v[b],
@@ -146,15 +146,15 @@ def sweep_part(model: ti.template(), state: ti.template(), world: ti.template(),
     zero = ti.Vector.zero(float, 3)
     k, kd, mu = stages.contact_constants(world)
     stride = neighbours.list_stride(scratch, state)
-    r_max = scratch.grid_params[3]
+    r_max = bp.largest_radius(scratch)
     for b in range(state.x.shape[0]):
-        if part_cut.part_of(state, scratch, b) == part:
+        if bp.part_of(scratch, b) == part:
             for i in range(model.body_start[b], model.body_start[b] + model.body_count[b]):
                 if scratch.nbr_count[i] > 0:
                     scratch.particle_f[i] = zero
                     scratch.particle_couple[i] = zero
     for b in range(state.x.shape[0]):
-        if part_cut.part_of(state, scratch, b) == part:
+        if bp.part_of(scratch, b) == part:
             a_rests = False
             if ti.static(sleeping):
                 a_rests = sleep.resting(state, b)
@@ -168,7 +168,7 @@ def sweep_part(model: ti.template(), state: ti.template(), world: ti.template(),
                     sweep_particle(model, state, scratch, i, b, a_rests, body, k, kd, mu, stride, sleeping, part)
                     if touching(scratch.particle_f[i]):  # final: no later turn gives to i
                         touches += 1
-            scratch.build_pose[b][part_cut.TOUCH] = ti.cast(touches, float)  # the next cut's weight
+            bp.set_body_int(scratch, b, bp.TOUCHES, touches)  # the next cut's weight
 
 
 @ti.func

@@ -8,6 +8,7 @@ from collections import namedtuple
 
 import taichi as ti
 
+from . import broadphase as bp
 from . import candidates, motion, neighbours, refresh, schedule, sleep, stages
 from .contact import lower_slot_first, pair_contact
 
@@ -62,7 +63,7 @@ def place_for_pairs(model: ti.template(), state: ti.template(), scratch: ti.temp
         for b in range(state.x.shape[0] * (1 - gate)):
             if not sleep.asleep(state, b):
                 R, x, v, w = state.R[b], state.x[b], state.v[b], state.omega[b]
-                first, end = neighbours.body_active_range(state, scratch, b)
+                first, end = bp.body_active_range(scratch, b)
                 for t in range(first, end):
                     stages.place_body_particle(model, state, scratch.active[t], R, x, v, w)
     else:
@@ -82,8 +83,8 @@ def place_active(model: ti.template(), state: ti.template(), scratch: ti.templat
 def pair_between(model: ti.template(), state: ti.template(), i, p, r_a, x_a, v_a, w_a, k, kd, mu, j, reach_max):
     """(force fᵢ on slot i (at p) from slot j, the contact point c, half the pair's energy), zeros when
     the spheres are apart (most candidates: then body b is not loaded, nor its radius where j lies
-    beyond ``reach_max`` = r_a + the largest particle radius, grid_params[3]: a chain of two
-    dependent loads less for a list entry, ~7 % of the pair stage on a pile). The law is
+    beyond ``reach_max`` = r_a + the largest particle radius, broadphase.largest_radius: a chain
+    of two dependent loads less for a list entry, ~7 % of the pair stage on a pile). The law is
     evaluated from the lower slot's side whichever side asks, in one call: so the force j gets
     from i is exactly −fᵢ (the same operations on the same numbers; the law written from each
     side rounds differently under LLVM's contractions: measured, 0 of 13,353 touching pairs
@@ -143,7 +144,7 @@ def pair_forces(model: ti.template(), state: ti.template(), world: ti.template()
     p, r_a = state.particle_x[i], model.particle_radius[a]
     k, kd, mu = stages.contact_constants(world)
     x_a, v_a, w_a = state.x[a], state.v[a], state.omega[a]
-    reach_max = r_a + scratch.grid_params[3]
+    reach_max = r_a + bp.largest_radius(scratch)
     f = ti.Vector.zero(float, 3)
     couple = ti.Vector.zero(float, 3)
     energy = 0.0

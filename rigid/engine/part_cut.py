@@ -11,27 +11,20 @@ the layer's widest axis crossed 1.5 % (6.6 %). The pair stage of the 1,000 spher
 So each substep, one thread cuts the bodies along the axis of the largest extent of their
 centres into ``parts`` groups, ordered by (coordinate, body index), of about equal weight: a
 body weighs its particles plus TOUCH_WEIGHT for each that touched another body's when the
-parts last ran (counted by pair_parts.sweep_part into slot 15 of build_pose; kept with the
+parts last ran (counted by pair_parts.sweep_part into broadphase.TOUCHES; kept with the
 state by list growth's copy, cleared by a reset). On 125 volume spheres of 235,000 particles
 equal counts left the parts at 8.6 and 6.7 ms, the weights at 7.8 and 7.8 (the sweep alone:
 14.9-16.5 ms on one thread); a substep 56.6-58.7 → 52.7-54.2 ns a particle. The cut and the weights
 are fixed functions of the state (the touching pairs do not depend on the lists), so the runs
 stay bit-reproducible whatever the lists' skin, rebuilds and chunks. The groups' edges come
-from Hoare's selection (O(B), no sort) on a copy of the keys in slots 13 and 14 of build_pose,
-which hold the motion test's values only during that test (motion.py); each body's part goes
-into nbr_flags (neighbours.py).
+from Hoare's selection (O(B), no sort) on a copy of the keys, (coordinate, body index) at
+position t in broadphase.CUT_KEY and CUT_INDEX; each body's part goes into broadphase.PART.
 """
 import taichi as ti
 
-KEY, INDEX = 13, 14  # build_pose slots the selection works in: a body's coordinate, its index
-TOUCH = 15  # build_pose slot: the body's touching particles when the parts last ran (sweep_part)
+from . import broadphase as bp
+
 TOUCH_WEIGHT = 6.0  # a touching particle's work in the sweep against one that only reads its list
-
-
-@ti.func
-def part_of(state: ti.template(), scratch: ti.template(), b):
-    """The part body b's particles belong to (after cut_bodies in this substep)."""
-    return scratch.nbr_flags[4 + 2 * state.x.shape[0] + b]
 
 
 @ti.func
@@ -41,20 +34,33 @@ def _ordered(key_a, index_a, key_b, index_b):
 
 
 @ti.func
+def _key(scratch: ti.template(), t):
+    return bp.body_float(scratch, t, bp.CUT_KEY)
+
+
+@ti.func
+def _index(scratch: ti.template(), t):
+    return bp.body_int(scratch, t, bp.CUT_INDEX)
+
+
+@ti.func
+def _set(scratch: ti.template(), t, key, index):
+    """Selection position t ← (key, index)."""
+    bp.set_body_float(scratch, t, bp.CUT_KEY, key)
+    bp.set_body_int(scratch, t, bp.CUT_INDEX, index)
+
+
+@ti.func
 def _before(scratch: ti.template(), s, t):
-    """Whether the key in selection slot s comes before that in slot t."""
-    a, b = scratch.build_pose[s], scratch.build_pose[t]
-    return _ordered(a[KEY], a[INDEX], b[KEY], b[INDEX])
+    """Whether the key at selection position s comes before that at position t."""
+    return _ordered(_key(scratch, s), _index(scratch, s), _key(scratch, t), _index(scratch, t))
 
 
 @ti.func
 def _swap(scratch: ti.template(), s, t):
-    a, b = scratch.build_pose[s], scratch.build_pose[t]
-    key, index = a[KEY], a[INDEX]
-    scratch.build_pose[s][KEY] = b[KEY]
-    scratch.build_pose[s][INDEX] = b[INDEX]
-    scratch.build_pose[t][KEY] = key
-    scratch.build_pose[t][INDEX] = index
+    key, index = _key(scratch, s), _index(scratch, s)
+    _set(scratch, s, _key(scratch, t), _index(scratch, t))
+    _set(scratch, t, key, index)
 
 
 @ti.func
@@ -62,12 +68,12 @@ def _weight(model: ti.template(), scratch: ti.template(), b):
     """Body b's share of the pair stage's work: its particles, and more for those that touched
     another body's in the last substep the parts ran (a fixed function of the state: the
     touching pairs do not depend on the lists)."""
-    return ti.cast(model.body_count[b], float) + TOUCH_WEIGHT * scratch.build_pose[b][TOUCH]
+    return ti.cast(model.body_count[b], float) + TOUCH_WEIGHT * ti.cast(bp.body_int(scratch, b, bp.TOUCHES), float)
 
 
 @ti.func
 def _weight_at(model: ti.template(), scratch: ti.template(), t):
-    return _weight(model, scratch, ti.cast(scratch.build_pose[t][INDEX], ti.i32))
+    return _weight(model, scratch, _index(scratch, t))
 
 
 @ti.func
@@ -86,12 +92,12 @@ def _select_weight(model: ti.template(), scratch: ti.template(), first, last, be
             _swap(scratch, hi, lo)
         if _before(scratch, hi, mid):
             _swap(scratch, hi, mid)
-        pivot_key, pivot_index = scratch.build_pose[mid][KEY], scratch.build_pose[mid][INDEX]
+        pivot_key, pivot_index = _key(scratch, mid), _index(scratch, mid)
         i, j = lo, hi
         while i <= j:
-            while _ordered(scratch.build_pose[i][KEY], scratch.build_pose[i][INDEX], pivot_key, pivot_index):
+            while _ordered(_key(scratch, i), _index(scratch, i), pivot_key, pivot_index):
                 i += 1
-            while _ordered(pivot_key, pivot_index, scratch.build_pose[j][KEY], scratch.build_pose[j][INDEX]):
+            while _ordered(pivot_key, pivot_index, _key(scratch, j), _index(scratch, j)):
                 j -= 1
             if i <= j:
                 _swap(scratch, i, j)
@@ -142,8 +148,7 @@ def cut_bodies(model: ti.template(), state: ti.template(), scratch: ti.template(
             c = x[2]
         if not (c == c):
             c = 0.0
-        scratch.build_pose[b][KEY] = c
-        scratch.build_pose[b][INDEX] = ti.cast(b, float)  # exact up to 2**24 bodies in float32
+        _set(scratch, b, c, b)
         total += _weight(model, scratch, b)
     first, before = 0, 0.0
     for k in range(parts - 1):
@@ -151,9 +156,9 @@ def cut_bodies(model: ti.template(), state: ti.template(), scratch: ti.template(
         if first < B:
             end = _select_weight(model, scratch, first, B - 1, before, total * (k + 1) / parts) + 1
         for t in range(first, end):
-            b = ti.cast(scratch.build_pose[t][INDEX], ti.i32)
-            scratch.nbr_flags[4 + 2 * B + b] = k
+            b = _index(scratch, t)
+            bp.set_body_int(scratch, b, bp.PART, k)
             before += _weight(model, scratch, b)
         first = end
     for t in range(first, B):
-        scratch.nbr_flags[4 + 2 * B + ti.cast(scratch.build_pose[t][INDEX], ti.i32)] = parts - 1
+        bp.set_body_int(scratch, _index(scratch, t), bp.PART, parts - 1)

@@ -32,47 +32,46 @@ Verlet list's rebuild every few substeps is (on the 24,000-body pile, refresh an
 21.8 ms a substep, a full build every 13 substeps instead of 21); in a quiet pile, where
 refreshes come seldom and the average runs low, the refreshes go on (without that condition
 pile.toml ran 11 % slower, 319 full builds in 300 frames instead of 218; with it 236). Also
-when the refreshed bodies would exceed ``grid_params[4]`` of the particles (REFRESH_FRACTION,
+when the refreshed bodies would exceed broadphase.MAX_REFRESHED of the particles (REFRESH_FRACTION,
 which sizes the hash; 0: never refresh), when a list has overflowed since (its grid walk would
 miss the refreshed particles: list_growth.py) or would overflow. Off a CPU the parallel
-schedule always rebuilds in full. Where the refresh keeps its state: refresh_state.py.
+schedule always rebuilds in full. Where the refresh keeps its state: broadphase.py (REFRESHED_BODIES
+... MOTION_TESTS; per body REFRESH_STATE, REFRESH_ORDER, MOVED).
 """
 import taichi as ti
 
+from . import broadphase as bp
 from . import motion, neighbours, refresh_search, schedule
+from .broadphase import MARKED, REFRESHED, body_state, marked, refreshed_body, searching
 from .matvec import body_offset, matvec
-from .refresh_state import (BUCKETS, COST, COUNT, FULL, MARKED, PARTICLES, REFRESHED, REFRESHES, SEARCHING,
-                            SINCE, at, body_state, marked, num_refreshed, refreshed_body, refreshed_particles,
-                            scalar, searching)
 
 # Of the particles, refreshed since the last full build at most. On the 24,000-body pile at 1 s a
 # refresh marks ~12 % of the bodies at a skin of a tenth of a diameter: 0.0625 never refreshed
 # there (170 ns a particle-substep), 0.125 ran 57-63 ns, 0.25 62-68, 0.5 80 (the first search).
 REFRESH_FRACTION = 0.25
-# A full build's cost (grid_params[5]) and a refresh's own (its passes over every body and
+# A full build's cost (broadphase.FULL_BUILD_COST) and a refresh's own (its passes over every body and
 # particle), in refreshed particles per particle of the scene: on the 24,000-body pile a build
 # took 168 ms, a refresh ~4 ms and 0.6 µs a refreshed particle (two threads).
 BUILD_COST, ROUND_COST = 0.28, 0.007
-PENDING = 4  # nbr_flags[0] from a refresh's preparation to its search's end (then 0, or 1: a full build)
+PENDING = 4  # broadphase.REBUILD from a refresh's preparation to its search's end (then 0, or 1: a full build)
 
 
 @ti.func
 def start_build(state: ti.template(), scratch: ti.template()):
     """neighbours.start_build, and no body refreshed once a full build follows (top-level statements)."""
     neighbours.start_build(scratch)
-    keep = 1 - scratch.nbr_flags[0]
-    scratch.nbr_flags[scalar(state, COUNT)] *= keep
-    scratch.nbr_flags[scalar(state, PARTICLES)] *= keep
-    scratch.nbr_flags[scalar(state, SINCE)] *= keep
-    build = ti.cast(scratch.grid_params[5] * state.particle_x.shape[0], ti.i32)
-    scratch.nbr_flags[scalar(state, COST)] = keep * scratch.nbr_flags[scalar(state, COST)] + (1 - keep) * build
+    keep = 1 - bp.get(scratch, bp.REBUILD)
+    for what in ti.static((bp.REFRESHED_BODIES, bp.REFRESHED_PARTICLES, bp.MOTION_TESTS)):
+        bp.put(scratch, what, bp.get(scratch, what) * keep)
+    build = ti.cast(bp.value(scratch, bp.FULL_BUILD_COST) * state.particle_x.shape[0], ti.i32)
+    bp.put(scratch, bp.REFRESH_COST, keep * bp.get(scratch, bp.REFRESH_COST) + (1 - keep) * build)
 
 
 @ti.func
 def after_build(state: ti.template(), scratch: ti.template(), b):
     """A full build's end for body b: its pose kept, its references those of the build."""
-    motion.keep_build_pose(scratch, state, b)
-    scratch.nbr_flags[at(state, b)] = 0
+    bp.keep_reference_pose(scratch, b, state.x[b], state.R[b])
+    bp.set_body_int(scratch, b, bp.REFRESH_STATE, 0)
 
 
 @ti.func
@@ -82,10 +81,9 @@ def settle(model: ti.template(), state: ti.template(), scratch: ti.template(), p
     if it can be done (``enabled``, on one thread or a CPU), else a full build. The refresh's
     search then runs here, or with ``defer`` is left PENDING for split_substep.py's launch, which
     runs ``search`` on both threads and then ``finish``."""
-    flag = scratch.nbr_flags[0]
+    flag = bp.get(scratch, bp.REBUILD)
     if ti.static(enabled):
-        since = scalar(state, SINCE)
-        scratch.nbr_flags[since] = ti.min(scratch.nbr_flags[since] + 1, 1 << 30)
+        bp.put(scratch, bp.MOTION_TESTS, ti.min(bp.get(scratch, bp.MOTION_TESTS) + 1, 1 << 30))
     if flag == motion.MAYBE:
         flag = 0
     elif flag == motion.VIOLATED:
@@ -93,10 +91,10 @@ def settle(model: ti.template(), state: ti.template(), scratch: ti.template(), p
         if ti.static(enabled and (not parallel or schedule.on_cpu())):
             if _prepare(model, state, scratch):
                 flag = PENDING
-    scratch.nbr_flags[0] = flag
+    bp.put(scratch, bp.REBUILD, flag)
     if ti.static(enabled and not defer):
         if flag == PENDING:
-            for t in range(searching(state, scratch)):
+            for t in range(searching(scratch)):
                 search(model, state, scratch, t)
             finish(model, state, scratch, parallel)
 
@@ -106,41 +104,41 @@ def _prepare(model: ti.template(), state: ti.template(), scratch: ti.template())
     """Mark every body with e⁰ > half the allowed motion and make its lists ready to be searched
     again (steps 1 and 2), unless a full build is due; 1 if so."""
     B, N = state.x.shape[0], state.particle_x.shape[0]
-    half = 0.5 * scratch.grid_params[2]
-    listed, particles = num_refreshed(state, scratch), refreshed_particles(state, scratch)
+    half = 0.5 * bp.value(scratch, bp.ALLOWED)
+    listed, particles = bp.get(scratch, bp.REFRESHED_BODIES), bp.get(scratch, bp.REFRESHED_PARTICLES)
     H = refresh_search.buckets(scratch, N)
-    ok = ti.cast(scratch.nbr_flags[scratch.nbr_flags.shape[0] - 1] == 0 and H > 0, ti.i32)  # no list overflowed
+    ok = ti.cast(bp.get(scratch, bp.OVERFLOW) == 0 and H > 0, ti.i32)  # no list overflowed
     cost = 0
     if ok:
         for b in range(B):
             dx, turn = motion.body_shift(scratch, state, b)
             moved = dx.norm() + turn
-            scratch.build_pose[b][13] = moved  # the motion test is done with slot 13
+            bp.set_body_float(scratch, b, bp.MOVED, moved)
             if moved > half:
                 cost += model.body_count[b]
-                if body_state(state, scratch, b) == 0:
+                if body_state(scratch, b) == 0:
                     particles += model.body_count[b]
         cost += ti.cast(ROUND_COST * N, ti.i32)
-        cycle = scratch.nbr_flags[scalar(state, COST)]  # the build's and the refreshes' since
-        since = ti.max(scratch.nbr_flags[scalar(state, SINCE)], 1)
-        build = scratch.grid_params[5] * N
+        cycle = bp.get(scratch, bp.REFRESH_COST)  # the build's and the refreshes' since
+        since = ti.max(bp.get(scratch, bp.MOTION_TESTS), 1)
+        build = bp.value(scratch, bp.FULL_BUILD_COST) * N
         dear = ti.cast(cost, float) * since > cycle and cycle > 1.5 * build  # (a quiet pile's average runs low)
-        ok = ti.cast(particles <= scratch.grid_params[4] * N and not dear, ti.i32)
+        ok = ti.cast(particles <= bp.value(scratch, bp.MAX_REFRESHED) * N and not dear, ti.i32)
         if ok:
-            scratch.nbr_flags[scalar(state, COST)] = ti.min(cycle + cost, 1 << 30)  # (no i32 overflow)
+            bp.put(scratch, bp.REFRESH_COST, ti.min(cycle + cost, 1 << 30))  # (no i32 overflow)
     if ok:
         if listed == 0:  # the first refresh since the full build
             refresh_search.empty_hash(scratch, H)
         for b in range(B):
-            if scratch.build_pose[b][13] > half:
-                if body_state(state, scratch, b) == 0:
-                    scratch.nbr_flags[at(state, B + listed)] = b
+            if bp.body_float(scratch, b, bp.MOVED) > half:
+                if body_state(scratch, b) == 0:
+                    bp.set_body_int(scratch, listed, bp.REFRESH_ORDER, b)
                     listed += 1
-                scratch.nbr_flags[at(state, b)] |= MARKED
-        scratch.nbr_flags[scalar(state, COUNT)] = listed
-        scratch.nbr_flags[scalar(state, PARTICLES)] = particles
-        scratch.nbr_flags[scalar(state, BUCKETS)] = H
-        scratch.nbr_flags[scalar(state, FULL)] = 0
+                bp.set_body_int(scratch, b, bp.REFRESH_STATE, body_state(scratch, b) | MARKED)
+        bp.put(scratch, bp.REFRESHED_BODIES, listed)
+        bp.put(scratch, bp.REFRESHED_PARTICLES, particles)
+        bp.put(scratch, bp.BUCKETS, H)
+        bp.put(scratch, bp.SEARCH_FULL, 0)
         _unlist_and_rehash(model, state, scratch, H)
     return ok
 
@@ -165,22 +163,22 @@ def _unlist_and_rehash(model: ti.template(), state: ti.template(), scratch: ti.t
     buckets, refresh_search.py) kept up; their particles, to be searched, in the active list
     (which finish makes again)."""
     stride = neighbours.list_stride(scratch, state)
-    listed = num_refreshed(state, scratch)
+    listed = bp.get(scratch, bp.REFRESHED_BODIES)
     for k in range(listed):  # 1. out of their partners' lists (the marked ones' are emptied next)
-        a = refreshed_body(state, scratch, k)
-        if marked(state, scratch, a):
+        a = refreshed_body(scratch, k)
+        if marked(scratch, a):
             for i in range(model.body_start[a], model.body_start[a] + model.body_count[a]):
                 for t in range(scratch.nbr_count[i]):
                     j = scratch.nbr_list[i * stride + t]
-                    if not marked(state, scratch, model.particle_body[j]):
+                    if not marked(scratch, model.particle_body[j]):
                         _remove(scratch, j, i, stride)
     n = 0
     for k in range(listed):  # 2. their references now (particle_x is left to the placement, which
-        a = refreshed_body(state, scratch, k)  # follows: the same code places a particle whatever the lists)
-        if marked(state, scratch, a):
-            if body_state(state, scratch, a) & REFRESHED != 0:  # hashed at its old references
+        a = refreshed_body(scratch, k)  # follows: the same code places a particle whatever the lists)
+        if marked(scratch, a):
+            if body_state(scratch, a) & REFRESHED != 0:  # hashed at its old references
                 refresh_search.unhash_body(model, scratch, a, H)
-            motion.keep_build_pose(scratch, state, a)
+            bp.keep_reference_pose(scratch, a, state.x[a], state.R[a])
             R, x = state.R[a], state.x[a]
             for i in range(model.body_start[a], model.body_start[a] + model.body_count[a]):
                 scratch.build_x[i] = x + matvec(R, body_offset(model, i))
@@ -188,7 +186,7 @@ def _unlist_and_rehash(model: ti.template(), state: ti.template(), scratch: ti.t
                 scratch.active[n] = i
                 n += 1
             refresh_search.hash_body(model, scratch, a, H)
-    scratch.nbr_flags[scalar(state, SEARCHING)] = n
+    bp.put(scratch, bp.SEARCHING, n)
 
 
 @ti.func
@@ -196,9 +194,9 @@ def search(model: ti.template(), state: ti.template(), scratch: ti.template(), t
     """3. The t-th marked particle's partners found again, into its own list only (so the marked
     particles may search side by side: split_substep.py)."""
     stride = neighbours.list_stride(scratch, state)
-    H = scratch.nbr_flags[scalar(state, BUCKETS)]
+    H = bp.get(scratch, bp.BUCKETS)
     if not refresh_search.find_partners(model, state, scratch, scratch.active[t], stride, H):
-        scratch.nbr_flags[scalar(state, FULL)] = 1
+        bp.put(scratch, bp.SEARCH_FULL, 1)
 
 
 @ti.func
@@ -206,16 +204,16 @@ def finish(model: ti.template(), state: ti.template(), scratch: ti.template(), p
     """After ``search`` (one thread): each marked particle entered in the lists of its partners
     not marked (a marked partner found it itself: the distance test is symmetric), and the
     active list made again; else (a list full) a full build."""
-    if scratch.nbr_flags[0] == PENDING:
+    if bp.get(scratch, bp.REBUILD) == PENDING:
         N = state.particle_x.shape[0]
         stride = neighbours.list_stride(scratch, state)
-        ok = 1 - scratch.nbr_flags[scalar(state, FULL)]
-        n = searching(state, scratch)
+        ok = 1 - bp.get(scratch, bp.SEARCH_FULL)
+        n = searching(scratch)
         for t in range(n * ok):
             i = scratch.active[t]
             for s in range(scratch.nbr_count[i]):
                 j = scratch.nbr_list[i * stride + s]
-                if not marked(state, scratch, model.particle_body[j]):
+                if not marked(scratch, model.particle_body[j]):
                     ok &= refresh_search.insert(scratch, j, i, stride)
         flag = 1
         if ok:
@@ -223,15 +221,15 @@ def finish(model: ti.template(), state: ti.template(), scratch: ti.template(), p
             for t in range(n):
                 if scratch.nbr_count[scratch.active[t]] == 0:
                     neighbours.no_pair_force(scratch, scratch.active[t])
-            for k in range(num_refreshed(state, scratch)):
-                scratch.nbr_flags[at(state, refreshed_body(state, scratch, k))] = REFRESHED
-            scratch.nbr_flags[scalar(state, REFRESHES)] += 1
+            for k in range(bp.get(scratch, bp.REFRESHED_BODIES)):
+                bp.set_body_int(scratch, refreshed_body(scratch, k), bp.REFRESH_STATE, REFRESHED)
+            bp.put(scratch, bp.REFRESHES, bp.get(scratch, bp.REFRESHES) + 1)
             m = 0  # the active list again, ascending (on one thread: a parallel list_active's two empty
             for i in range(N):  # loops would cost every substep ~60 µs; this, 1-2 ms a refresh at 1M)
                 if scratch.nbr_count[i] > 0:
                     scratch.active[m] = i
                     m += 1
-            scratch.nbr_flags[2] = m
+            bp.put(scratch, bp.ACTIVE, m)
             if ti.static(not parallel):
                 neighbours.index_active_by_body(model, state, scratch)
-        scratch.nbr_flags[0] = flag
+        bp.put(scratch, bp.REBUILD, flag)

@@ -20,8 +20,9 @@ the order they search in nor the chains' order changes it.
 """
 import taichi as ti
 
+from . import broadphase as bp
 from . import grid
-from .refresh_state import body_state
+from .broadphase import body_state
 
 CELL_BITS = 1023  # each cell coordinate's low 10 bits go into the hash (no i32 overflow below)
 
@@ -35,9 +36,9 @@ def _bucket(g, H):
 @ti.func
 def buckets(scratch: ti.template(), n):
     """H for ``n`` particles: the power of two at least twice the most a refresh may cover
-    (grid_params[4] of them); 0 if cell_count (H heads, then a link per slot) has no room."""
+    (broadphase.MAX_REFRESHED of them); 0 if cell_count (H heads, then a link per slot) has no room."""
     H = 8
-    while H < 2.0 * scratch.grid_params[4] * n:
+    while H < 2.0 * bp.value(scratch, bp.MAX_REFRESHED) * n:
         H *= 2
     if H + n > scratch.cell_count.shape[0]:
         H = 0
@@ -105,7 +106,7 @@ def find_partners(model: ti.template(), state: ti.template(), scratch: ti.templa
     """The partners of slot i, of a marked body, at its new reference (build_x), into its own list
     only: the particles not refreshed since the full build in the build's grid, the refreshed ones
     (marked too or not) in the hash (H buckets). 0 if the list was full."""
-    skin = scratch.grid_params[1]
+    skin = bp.value(scratch, bp.SKIN)
     a = model.particle_body[i]
     r_a = model.particle_radius[a]
     p = scratch.build_x[i]
@@ -119,7 +120,7 @@ def find_partners(model: ti.template(), state: ti.template(), scratch: ti.templa
             if b == a:  # its own run in this cell, passed over at once
                 slot = scratch.sorted_run_end[slot]
             else:
-                if body_state(state, scratch, b) == 0 and grid.same_world(model, a, b):  # not refreshed since the build
+                if body_state(scratch, b) == 0 and grid.same_world(model, a, b):  # not refreshed since the build
                     d = scratch.sorted_x[slot] - p
                     reach = r_a + model.particle_radius[b] + skin
                     if d.dot(d) < reach * reach:

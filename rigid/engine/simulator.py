@@ -20,11 +20,12 @@ from ..bodies.overlap import check_start
 from ..bodies.placement import BodySpec, check_inside_box, scene_bodies
 from ..bodies.springs import resolve_springs, spring_ends, spring_energy
 from ..bodies.statics import static_bodies, static_faces
+from . import broadphase, broadphase_host
 from .arrays import clear, download, host_float, upload
 from .pushes import Pushes
 from .kernels import engine_kernels
 from .list_growth import ListGrowth
-from .scratch import build_pose, make_scratch, particle_diameter
+from .scratch import make_scratch, particle_diameter
 from .skin import AdaptiveSkin
 from .launch import run_chunk, schedule_launches
 from .model import BodyParts, Model
@@ -121,7 +122,7 @@ class Simulator(Pushes):
 
     def scratch_cell(self) -> float:
         """The grid's cell size, m (scratch.py)."""
-        return 1.0 / float(download(self._scratch_arrays["grid_params"])[0])
+        return 1.0 / broadphase_host.float_value(self._scratch_arrays, broadphase.INV_CELL)
 
     @property
     def substeps(self) -> int:
@@ -131,7 +132,7 @@ class Simulator(Pushes):
     @property
     def neighbour_builds(self) -> int:
         """How many times the neighbour lists were built (benchmarks: rebuilds per substep)."""
-        return int(download(self._scratch_arrays["nbr_flags"])[1])
+        return broadphase_host.builds(self._scratch_arrays)
 
     def neighbour_counts(self) -> np.ndarray:
         """(N,) candidates in each particle's list at its last build (slot order; benchmarks)."""
@@ -142,9 +143,8 @@ class Simulator(Pushes):
         self.time = 0.0
         self.frame = 0
         self.release()
-        self._scratch_arrays["nbr_flags"][0] = 1  # the next placement builds the neighbour lists
         clear(self.state.sleep)  # every body awake
-        upload(self._scratch_arrays["build_pose"], build_pose(self.model))  # no touches counted (part_cut.py)
+        broadphase_host.reset(self._scratch_arrays, self.model)  # lists built at the next placement, no touches
         self._params_version = self.params.version
         self.state.clear_contacts()
         clear(self._scratch_arrays["contacts"])

@@ -23,9 +23,7 @@ falls asleep: pair_stages.place_for_pairs says why).
 """
 from __future__ import annotations
 
-from . import neighbours
-from .arrays import IntCell, upload
-from .scratch import grid_params
+from . import broadphase, broadphase_host, neighbours
 
 SHRINK_ABOVE = 0.95  # rebuilds a substep: the lists were (nearly) never reused
 GROW_BELOW = 0.5  # reused at least once on average: a wider skin may pay again
@@ -37,7 +35,7 @@ class AdaptiveSkin:
         self.diameter, self.pairs = diameter, pairs
         self.fraction = neighbours.SKIN_FRACTION
         self._builds = 0
-        self._counter = IntCell(scratch_arrays["nbr_flags"], 1) if pairs else None  # builds so far
+        self._counter = broadphase_host.cell(scratch_arrays, broadphase.BUILDS) if pairs else None  # builds so far
 
     def after_chunk(self, sim, substeps: int) -> None:
         """Adapt the skin to the rebuilds of the chunk just run (``substeps`` in all)."""
@@ -56,5 +54,4 @@ class AdaptiveSkin:
     def set(self, sim, fraction: float) -> None:
         """Skin = ``fraction`` of a diameter from the next placement on (the lists rebuilt there)."""
         self.fraction = fraction
-        upload(sim._scratch_arrays["grid_params"], grid_params(self.diameter, fraction))
-        sim._scratch_arrays["nbr_flags"][0] = 1
+        broadphase_host.set_skin(sim._scratch_arrays, self.diameter, fraction)

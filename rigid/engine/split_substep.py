@@ -21,7 +21,7 @@ active list again (the 24,000-body pile: ~42 µs a refreshed body with all of it
 """
 import taichi as ti
 
-from . import pair_stages, refresh, substep
+from . import broadphase, pair_stages, refresh, substep
 from .arrays import ModelArgs, ScratchArgs, StateArgs, WorldArgs
 from .state import DT
 
@@ -47,7 +47,7 @@ def make(plan) -> SplitSubstep:
 
     @ti.kernel
     def refresh_lists(model: M, state: S, scratch: C):
-        for t in range(refresh.searching(state, scratch)):
+        for t in range(broadphase.searching(scratch)):
             refresh.search(model, state, scratch, t)
         ti.loop_config(serialize=True)
         for _ in range(1):
