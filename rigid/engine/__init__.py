@@ -20,8 +20,11 @@
                 it overflowed), which every pair consumer calls with a visitor; pair_slip.py:
                 with materials, each contact pair's sticking spring kept per list entry and
                 carried across rebuilds
-  contact.py    the one contact law; broadphase.py: the broadphase's named scalars and per-body
-                tables and their accessors (broadphase_host.py: the host's side); grid.py, scan.py,
+  contact.py    the one contact law
+  find_pairs.py the broadphase's one interface (stage 2): update (the motion test, then the lists
+                kept, refreshed or built), place_and_build, each_candidate; broadphase.py: its
+                named scalars and per-body tables and their accessors (broadphase_host.py: the
+                host's side); grid.py, scan.py,
                 neighbours.py: the grid and neighbour lists;
                 motion.py: when the lists must be rebuilt (each body's motion, the pairs near enough to touch);
                 refresh.py, refresh_search.py: only the moved bodies' lists rebuilt;

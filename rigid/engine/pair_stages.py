@@ -1,5 +1,5 @@
 """The stages of a substep that exist only when bodies collide (stages.py lists them all):
-1a ``note_motion`` (must the neighbour lists be rebuilt?), 1b ``place_for_pairs`` (the
+1b ``place_for_pairs`` (the
 particles the pair stage reads), 3a ``pair_stage`` (each particle's force and couple from the
 other bodies' particles in its neighbour list, neighbours.py; the law is contact.py's, each
 pair evaluated by ``pair_between``), and ``pair_forces``, which the frame's contact energy
@@ -9,36 +9,8 @@ from collections import namedtuple
 import taichi as ti
 
 from . import broadphase as bp
-from . import candidates, motion, neighbours, refresh, schedule, sleep, stages
+from . import candidates, neighbours, sleep, stages
 from .contact import lower_slot_first, pair_contact
-
-
-@ti.func
-def note_motion(model: ti.template(), state: ti.template(), scratch: ti.template(), parallel: ti.template(),
-                refresh_lists: ti.template(), defer_search: ti.template()):
-    """Stage 1a (bodies in contact): whether the neighbour lists must be rebuilt (motion.py):
-    each body's motion on one thread on a CPU (a parallel kernel's top level would split its
-    loops), as parallel loops off one (motion.note_motion_spread), then
-    the pairs of bodies near enough to touch, in parallel with ``parallel``; then, if a pair
-    moved too far, the bodies that moved refreshed (with ``refresh_lists``: refresh.py) or a
-    full build asked for (``defer_search``: the refresh's search left to split_substep.py)."""
-    if ti.static(parallel):
-        if ti.static(schedule.on_cpu()):
-            ti.loop_config(serialize=True)
-            for _ in range(1):
-                motion.note_motion(scratch, state)
-        else:  # a GPU's one thread would take milliseconds over its bodies
-            motion.note_motion_spread(scratch, state)
-        for a in range(state.x.shape[0] * motion.motion_undecided(scratch)):
-            motion.close_pairs_moved(model, state, scratch, a)
-        ti.loop_config(serialize=True)
-        for _ in range(1):
-            refresh.settle(model, state, scratch, parallel, refresh_lists, defer_search)
-    else:
-        motion.note_motion(scratch, state)
-        for a in range(state.x.shape[0] * motion.motion_undecided(scratch)):
-            motion.close_pairs_moved(model, state, scratch, a)
-        refresh.settle(model, state, scratch, parallel, refresh_lists, defer_search)
 
 
 @ti.func

@@ -21,7 +21,7 @@ active list again (the 24,000-body pile: ~42 µs a refreshed body with all of it
 """
 import taichi as ti
 
-from . import broadphase, pair_stages, refresh, substep
+from . import broadphase, find_pairs, pair_stages, refresh, substep
 from .arrays import ModelArgs, ScratchArgs, StateArgs, WorldArgs
 from .state import DT
 
@@ -43,7 +43,7 @@ def make(plan) -> SplitSubstep:
 
     @ti.kernel
     def motion(model: M, state: S, scratch: C):
-        pair_stages.note_motion(model, state, scratch, True, refreshing, True)
+        find_pairs.note_motion(model, state, scratch, True, refreshing, True)
 
     @ti.kernel
     def refresh_lists(model: M, state: S, scratch: C):
@@ -55,7 +55,7 @@ def make(plan) -> SplitSubstep:
 
     @ti.kernel
     def build(model: M, state: S, scratch: C):
-        substep.place_and_build(plan, model, state, scratch, True, 0)
+        find_pairs.place_and_build(plan, model, state, scratch, True, 0)
 
     @ti.kernel
     def place(model: M, state: S, scratch: C):

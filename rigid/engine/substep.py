@@ -1,8 +1,8 @@
 """The substep, read top to bottom: what every schedule runs, for one body or many.
 
     place          1.  pᵢ = x + R r0ᵢ, vᵢ = v + ω × R r0ᵢ               stages.place_particles
-                   2.  the neighbour lists rebuilt if a particle may    pair_stages, grid, neighbours
-                       have moved half their skin (bodies in contact)
+                   2.  the neighbour lists kept, refreshed or rebuilt   find_pairs.update (the
+                       as the particles moved (bodies in contact)       broadphase's interface)
     step           3a. each particle's pair force and couple           pair_stages / pair_once / pair_parts
                    3b. fᵢ = TODO 2 + planes + pairs; F, τ (TODO 3, 4)   force_loop.block_forces
                        + drag, the grab, springs                       forces.add_external
@@ -18,8 +18,8 @@ from collections import namedtuple
 
 import taichi as ti
 
-from . import (force_loop, grid, material_stages, neighbours, pair_once, pair_parts, pair_slip, pair_stages, refresh,
-               schemes, sleep, stages)
+from . import (find_pairs, force_loop, material_stages, neighbours, pair_once, pair_parts, pair_stages, schemes, sleep,
+               stages)
 from .state import DT
 
 Plan = namedtuple("Plan", "u update rk4 pairs materials sleeping parts refreshing compact")
@@ -41,47 +41,9 @@ def place(plan: ti.template(), model: ti.template(), state: ti.template(), scrat
     """Stages 1-2: the particles placed (bodies in contact: the active ones, unless ``everything``
     (0 or 1, may be a run-time value) or a rebuild), the lists rebuilt if needed."""
     if ti.static(plan.pairs):
-        pair_stages.note_motion(model, state, scratch, parallel, plan.refreshing, False)
-        place_and_build(plan, model, state, scratch, parallel, everything)
+        find_pairs.update(plan, model, state, scratch, parallel, everything)
     else:
         stages.place_particles(model, state)
-
-
-@ti.func
-def place_and_build(plan: ti.template(), model: ti.template(), state: ti.template(), scratch: ti.template(),
-                    parallel: ti.template(), everything):
-    """place after the motion test, bodies in contact (every loop gated by the rebuild flag)."""
-    by_body = ti.static(plan.sleeping and not parallel)  # the one-thread stages walk bodies (pair_once.py)
-    pair_stages.place_for_pairs(model, state, scratch, by_body, everything)
-    grid.clear_and_count(scratch, model, state, neighbours.rebuild_gate(scratch))
-    if ti.static(parallel):
-        grid.finish_parallel(scratch, model, state, neighbours.rebuild_gate(scratch))
-    else:
-        grid.finish_serial(scratch, model, state, neighbours.rebuild_gate(scratch))
-    refresh.start_build(state, scratch)
-    if ti.static(plan.materials):  # the pairs' sticking springs, to carry into the new lists
-        for i in range(state.particle_x.shape[0] * neighbours.rebuild_gate(scratch)):
-            pair_slip.keep(state, scratch, i)
-    for i in range(state.particle_x.shape[0] * neighbours.rebuild_gate(scratch)):
-        neighbours.clear_list(scratch, i)
-    for i in range(state.particle_x.shape[0] * neighbours.rebuild_gate(scratch)):
-        neighbours.build_list(model, state, scratch, i)
-    for i in range(state.particle_x.shape[0] * neighbours.rebuild_gate(scratch)):
-        neighbours.finish_list(state, scratch, i, parallel)
-    if ti.static(plan.materials):
-        for i in range(state.particle_x.shape[0] * neighbours.rebuild_gate(scratch)):
-            pair_slip.carry(state, scratch, i)
-    neighbours.list_active(state, scratch, neighbours.rebuild_gate(scratch), parallel)
-    for b in range(state.x.shape[0] * neighbours.rebuild_gate(scratch)):
-        refresh.after_build(state, scratch, b)
-    if ti.static(by_body):
-        if neighbours.rebuild_gate(scratch):
-            neighbours.index_active_by_body(model, state, scratch)
-    if ti.static(plan.materials):  # a particle left out of the new lists has no pair contacts
-        for i in range(state.particle_x.shape[0] * neighbours.rebuild_gate(scratch)):
-            if scratch.nbr_count[i] == 0:
-                scratch.contacts[i] = 0
-    neighbours.clear_flag(scratch)
 
 
 @ti.func
