@@ -19,12 +19,13 @@ MARKER = re.compile(r"^<!-- report: (\w+) -->$", re.M)
 def _generators():
     if str(ROOT) not in sys.path:  # the checkout's package, whether or not it is installed
         sys.path.insert(0, str(ROOT))
-    from rigid.bench import contact, many_markdown, sweeps, table
+    from rigid.bench import contact, first_run, many_markdown, sweeps, table
     from rigid.science import materials, validation
 
     return {"bench": table.markdown, "bench_many": many_markdown.markdown, "validation": validation.markdown,
             "materials": materials.markdown, "bench_build": _build, "bench_record": _record,
-            "bench_window": _window, "bench_sweep": sweeps.markdown, "contact": contact.report_markdown}
+            "bench_window": _window, "bench_sweep": sweeps.markdown, "contact": contact.report_markdown,
+            "bench_first_run": first_run.markdown}
 
 
 def on_files(files, config):

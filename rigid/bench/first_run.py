@@ -35,6 +35,18 @@ def wall(tree: Path, scene: Path, cache: Path, timeout: float = 900) -> float:
     return time.perf_counter() - began
 
 
+def label(tree: Path) -> str:
+    """A tree's name in the tables: its commit (and "+" if it has changes), else its folder's name."""
+    try:
+        commit = subprocess.run(["git", "-C", str(tree), "rev-parse", "--short", "HEAD"], capture_output=True,
+                                text=True, check=True).stdout.strip()
+        dirty = subprocess.run(["git", "-C", str(tree), "status", "--porcelain", "--untracked-files=no"],
+                               capture_output=True, text=True, check=True).stdout.strip()
+        return commit + ("+" if dirty else "")
+    except (OSError, subprocess.CalledProcessError):
+        return tree.name
+
+
 def run(out: Path, trees: list[Path], scenes: list[Path] | None = None) -> dict:
     """Cold and warm walls of each scene on each tree; writes bench_first_run.json/.md to ``out``."""
     scenes = scenes or sorted((ROOT / "assets" / "scenes").glob("*.toml"))
@@ -48,7 +60,7 @@ def run(out: Path, trees: list[Path], scenes: list[Path] | None = None) -> dict:
             row["trees"][str(tree)] = dict(cold_s=round(cold, 2), warm_s=round(warm, 2))
             print(f"{scene.stem:>20} {tree}: cold {cold:.1f} s, warm {warm:.1f} s", flush=True)
         rows.append(row)
-    result = dict(frames=FRAMES, trees=[str(t) for t in trees], rows=rows)
+    result = dict(frames=FRAMES, trees=[str(t) for t in trees], labels=[label(t) for t in trees], rows=rows)
     out.mkdir(parents=True, exist_ok=True)
     (out / "bench_first_run.json").write_text(json.dumps(result, indent=1) + "\n")
     (out / "bench_first_run.md").write_text(markdown(result))
@@ -57,11 +69,12 @@ def run(out: Path, trees: list[Path], scenes: list[Path] | None = None) -> dict:
 
 def markdown(result: dict) -> str:
     trees = result["trees"]
+    names = result.get("labels") or [Path(t).name for t in trees]
     lines = ["# First run of each shipped scene (scripts/bench_first_run.py)", "",
              f"Whole `rigid_body_dynamic.py --headless --scene S --frames {result['frames']}` processes, wall "
              "seconds: cold with an empty kernel cache, then warm on the cache it left. One process each; "
              "trees interleaved scene by scene.", ""]
-    head = " | ".join(f"{Path(t).name} cold | {Path(t).name} warm" for t in trees)
+    head = " | ".join(f"{name} cold | {name} warm" for name in names)
     lines += [f"| scene | {head} |", "|---|" + "---|" * (2 * len(trees))]
     for row in result["rows"]:
         cells = " | ".join(f"{row['trees'][t]['cold_s']:.1f} | {row['trees'][t]['warm_s']:.1f}" for t in trees)
