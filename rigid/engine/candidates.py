@@ -14,9 +14,26 @@ an overflowed particle's order is the grid's fixed cell order). ``visit`` is a `
 arguments), so the walk costs what a hand-written loop costs, and ``ctx.f += ...`` in the
 visitor adds to the caller's local variable f.
 """
+from collections import namedtuple
+
 import taichi as ti
 
 from . import grid, neighbours
+
+
+_Overflow = namedtuple("_Overflow", "model scratch body visit ctx entries")
+
+
+@ti.func
+def _other_body(c: ti.template(), slot):
+    """each_candidate's overflow walk: a slot of the sorted grid is a candidate unless it is of
+    the particle's own body or of another world."""
+    b = c.scratch.sorted_body[slot]
+    if b != c.body and grid.same_world(c.model, b, c.body):
+        if ti.static(c.entries):
+            ti.static(c.visit)(c.ctx, c.scratch.sorted_particle[slot], -1)
+        else:
+            ti.static(c.visit)(c.ctx, c.scratch.sorted_particle[slot])
 
 
 ALL, ABOVE, BELOW = 0, 1, 2  # which of a listed particle's candidates each_candidate visits
@@ -37,7 +54,8 @@ def _first_above(scratch: ti.template(), base, n, i):
 
 @ti.func
 def each_candidate(model: ti.template(), state: ti.template(), scratch: ti.template(), i, a, visit: ti.template(),
-                   ctx: ti.template(), which: ti.template() = ALL, entries: ti.template() = False):
+                   ctx: ti.template(), which: ti.template() = ALL, entries: ti.template() = False,
+                   one_call: ti.template() = False):
     """visit(ctx, j) for each candidate j of slot i (of body a): its neighbour list in order, or,
     where the list overflowed, the build's grid around i's build position. ``which``: ABOVE or
     BELOW, of a listed particle only the candidates above (below) slot i, found by bisection in
@@ -45,13 +63,38 @@ def each_candidate(model: ti.template(), state: ti.template(), scratch: ti.templ
     With ``entries``, visit(ctx, j, e): e = i·K + t, the index of j's entry in i's list (and of
     what arrays beside the lists keep for it: pair_slip.py), or −1 where the grid is walked.
 
-    Both ways are one loop with one call of ``visit``: a list is one range of entries, the grid
-    ROWS_AROUND ranges of sorted slots. Taichi inlines the visitor at each call, and the contact
-    laws are most of a kernel's code, so a second call would double what the kernel compiles."""
+    Taichi inlines the visitor at each of its calls. By default the list's loop and the grid's
+    walk call it apart, the list's loop kept as tight as a hand-written one (the plain law's hot
+    loop); ``one_call`` walks both as one loop with one call (a list is one range of entries,
+    the grid ROWS_AROUND ranges of sorted slots), for a big visitor such as the materials' law,
+    whose second copy made the kernel half again as slow to compile. The same visits, in the
+    same order, either way."""
     stride = neighbours.list_stride(scratch, state)
     n = scratch.nbr_count[i]
-    listed = n <= stride
     base = i * stride
+    if ti.static(one_call):
+        _each_in_one_loop(model, scratch, i, a, visit, ctx, which, entries, n, stride, base)
+    elif n <= stride:
+        first, end = 0, n
+        if ti.static(which == ABOVE):
+            first = _first_above(scratch, base, n, i)
+        elif ti.static(which == BELOW):
+            end = _first_above(scratch, base, n, i)
+        for t in range(first, end):
+            if ti.static(entries):
+                visit(ctx, scratch.nbr_list[base + t], base + t)
+            else:
+                visit(ctx, scratch.nbr_list[base + t])
+    else:
+        grid.each_slot_around(scratch, grid.particle_coords(scratch, model, i, scratch.build_x[i]), _other_body,
+                              ti.static(_Overflow(model, scratch, a, visit, ctx, entries)))
+
+
+@ti.func
+def _each_in_one_loop(model: ti.template(), scratch: ti.template(), i, a, visit: ti.template(), ctx: ti.template(),
+                      which: ti.template(), entries: ti.template(), n, stride, base):
+    """each_candidate's walk with one call of ``visit``: the list's range, or the grid's ranges."""
+    listed = n <= stride
     first, end = 0, n
     if listed:
         if ti.static(which == ABOVE):

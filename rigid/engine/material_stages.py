@@ -161,7 +161,7 @@ def pair_stage(model: ti.template(), state: ti.template(), world: ti.template(),
         candidates.each_candidate(model, state, scratch, i, a, _add_material_pair,
                                   ti.static(MaterialSums(model, state, world, scratch, i, a, p, r_a, x_a, v_a, w_a,
                                                          step, wave, waker, f, couple, touching, sleepers)),
-                                  entries=True)
+                                  entries=True, one_call=True)
     scratch.particle_f[i] = f
     scratch.particle_couple[i] = couple
     scratch.contacts[i] = touching
