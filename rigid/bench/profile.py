@@ -18,7 +18,7 @@ import time
 def _kernels(units):
     import taichi as ti
 
-    from ..engine import broadphase, force_loop, grid, neighbours, pair_once, pair_stages, schemes, stages
+    from ..engine import broadphase, find_pairs, force_loop, grid, neighbours, pair_once, pair_stages, schemes, stages
     from ..engine.arrays import ModelArgs, ScratchArgs, StateArgs, WorldArgs
 
     M, S, W, C = ModelArgs(), StateArgs(), WorldArgs(), ScratchArgs()
@@ -28,7 +28,7 @@ def _kernels(units):
     def place(model: M, state: S, scratch: C, reps: ti.i32):
         ti.loop_config(serialize=True)
         for _ in range(reps):
-            pair_stages.note_motion(model, state, scratch, False, False, False)
+            find_pairs.note_motion(model, state, scratch, False, False, False)
             pair_stages.place_for_pairs(model, state, scratch, True, False)  # as the serial schedule with sleeping
 
     @ti.kernel
