@@ -35,8 +35,8 @@ class SplitSubstep:
 
 
 def make(plan) -> SplitSubstep:
-    """The parts of substep.py's stages (``place_and_build``: placement and the gated rebuild after
-    the motion test; ``step``: the forces and the update) for one ``plan`` (substep.Plan; with
+    """The parts of substep.py's stages (find_pairs' ``note_motion`` and ``place_and_build``: the
+    motion test, then placement and the gated rebuild; substep's ``step``: the forces and the update) for one ``plan`` (substep.Plan; with
     ``refreshing``, partial rebuilds of the lists, refresh.py)."""
     refreshing = plan.refreshing
     M, S, W, C = ModelArgs(), StateArgs(), WorldArgs(), ScratchArgs()
