@@ -55,6 +55,30 @@ def test_refreshing_the_lists_keeps_the_bits_of_full_rebuilds(sim_cache, monkeyp
         assert np.array_equal(a[key], b[key]), (key, np.abs(a[key] - b[key]).max())
 
 
+
+def test_a_few_bodies_compile_no_refresh_and_keep_the_bits_of_refreshing(sim_cache, monkeypatch):
+    """Below refresh.REFRESH_AT_LEAST bodies the kernels leave the refresh out (it is a quarter of
+    their code to compile); the lists still hold every touching pair, so the run is the one that
+    refreshes, bit for bit."""
+    from rigid.engine import refresh
+
+    _thin_skin(monkeypatch)
+    monkeypatch.setattr(refresh, "BUILD_COST", 1e3)
+    monkeypatch.setattr(refresh, "REFRESH_FRACTION", 1.0)
+    few = dict(THROWN, count=8)
+    runs = []
+    for least in (refresh.REFRESH_AT_LEAST, 1):  # 8 bodies: without the refresh, then with it
+        monkeypatch.setattr(refresh, "REFRESH_AT_LEAST", least)
+        sim = sim_cache(**few)
+        assert sim.kernels.split is None or (sim.kernels.split.refresh is not None) == (least == 1)
+        for _ in range(40):
+            sim.step_frame()
+        runs.append(sim)
+    assert _counts(runs[0])[1] == 0 and _counts(runs[1])[1] > 20
+    a, b = runs[0].snapshot(), runs[1].snapshot()
+    for key in ("x", "q", "P", "L"):
+        assert np.array_equal(a[key], b[key]), (key, np.abs(a[key] - b[key]).max())
+
 def _listed_pairs(sim) -> set:
     from rigid.engine.arrays import download
 

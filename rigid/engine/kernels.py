@@ -33,24 +33,27 @@ def compact_block_loops(on: bool = True) -> None:
     _COMPACT[0] = bool(on)
 
 
-def engine_kernels(units, scheme: str, pairs: bool, materials: bool = False) -> "EngineKernels":
+def engine_kernels(units, scheme: str, pairs: bool, materials: bool = False, refreshing: bool = True) -> "EngineKernels":
     """The kernels for ``units`` (an object with the 7 TODO ``ti.func``s), ``scheme`` ("euler",
     "symplectic", "rk4") and whether bodies collide with one another (``pairs``: the grid and
     pair stages are compiled only for scenes that need them, which halves a lone body's
-    compile time) and whether the scene sets materials or static colliders (``materials``:
-    material_stages.py's force stages), compiled on first use in this process."""
-    key = (id(units), scheme, bool(pairs), bool(materials), _COMPACT[0])
+    compile time), whether the scene sets materials or static colliders (``materials``:
+    material_stages.py's force stages) and whether the lists may be refreshed in part
+    (``refreshing``: refresh.worth_refreshing), compiled on first use in this process."""
+    refreshing = bool(refreshing and pairs and not materials)
+    key = (id(units), scheme, bool(pairs), bool(materials), _COMPACT[0], refreshing)
     entry = _CACHE.get(key)
     if entry is None or entry.units is not units:
-        entry = _CACHE[key] = EngineKernels(units, scheme, bool(pairs), bool(materials), _COMPACT[0])
+        entry = _CACHE[key] = EngineKernels(units, scheme, bool(pairs), bool(materials), _COMPACT[0], refreshing)
     return entry
 
 
 class EngineKernels:
-    def __init__(self, units, scheme: str, pairs: bool, materials: bool = False, compact: bool = False):
+    def __init__(self, units, scheme: str, pairs: bool, materials: bool = False, compact: bool = False,
+                 refreshing: bool = True):
         self.units, self.scheme, self.pairs, self.materials, self.compact = units, scheme, pairs, materials, compact
         u = units
-        plan = substep.make_plan(units, scheme, pairs, materials, compact)
+        plan = substep.make_plan(units, scheme, pairs, materials, compact, refreshing)
         M, S, W, C, Rw, Sf = ModelArgs(), StateArgs(), WorldArgs(), ScratchArgs(), RowArgs(), SurfaceArgs()
         rk4 = plan.rk4
 

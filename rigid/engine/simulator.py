@@ -24,6 +24,7 @@ from . import broadphase, broadphase_host
 from .arrays import clear, download, host_float, upload
 from .pushes import Pushes
 from .kernels import engine_kernels
+from .refresh import worth_refreshing
 from .list_growth import ListGrowth
 from .scratch import make_scratch, particle_diameter
 from .skin import AdaptiveSkin
@@ -75,7 +76,8 @@ class Simulator(Pushes):
         if worlds > 1 or varied:
             self.bodies, self.springs = all_worlds(config, self.bodies, self.springs, worlds, varied)
         self.materials = materials = uses_materials(config)
-        self.kernels = engine_kernels(units, config.integrator, pairs=pairs, materials=materials)
+        self.kernels = engine_kernels(units, config.integrator, pairs=pairs, materials=materials,
+                                      refreshing=worth_refreshing(len(self.bodies)))
         parts = [BodyParts(b.geometry.particles, b.geometry.vertices, b.geometry.faces, b.particle_mass,
                            b.radius, b.name, b.restitution, b.friction, b.static, b.drag, i % per_world in faces)
                  for i, b in enumerate(self.bodies)]

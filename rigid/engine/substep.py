@@ -25,14 +25,15 @@ from .state import DT
 Plan = namedtuple("Plan", "u update rk4 pairs materials sleeping parts refreshing compact")
 
 
-def make_plan(units, scheme: str, pairs: bool, materials: bool, compact: bool) -> Plan:
+def make_plan(units, scheme: str, pairs: bool, materials: bool, compact: bool, refreshing: bool = True) -> Plan:
     """The compile-time choices for ``units`` and ``scheme``. Bodies may sleep (sleep.py) only without
     RK4; lists be refreshed in part (refresh.py) only without materials (whose contacts keep
-    per-contact memory: static friction's springs, the counts of m_eff)."""
+    per-contact memory: static friction's springs, the counts of m_eff) and where ``refreshing``
+    (refresh.worth_refreshing: scenes of many bodies)."""
     rk4 = scheme == "rk4"
     update = schemes.symplectic_update if scheme == "symplectic" else schemes.euler_update
     return Plan(units, update, rk4, pairs, materials, sleeping=pairs and not rk4,
-                parts=pair_parts.parts_here(), refreshing=not materials, compact=compact)
+                parts=pair_parts.parts_here(), refreshing=refreshing and not materials, compact=compact)
 
 
 @ti.func
