@@ -127,26 +127,27 @@ def _add_material_pair(c: ti.template(), j, entry):
         c.f += fp
         c.couple += cp
         c.touching += hit
-        if ti.static(c.wave == 0):
+        if c.wave == 0:
             if sleep.asleep(c.state, b):
                 c.sleepers += 1
                 if c.waker and inside:
                     sleep.mark_woken(c.state, b)
-        elif ti.static(c.wave == 1):
+        elif c.wave == 1:
             if sleep.resting(c.state, b):
                 pair_slip.copy_to(c.state, c.scratch, c.i, j, entry)
 
 
 @ti.func
 def pair_stage(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(), i, step,
-               wave: ti.template() = -1):
+               wave=-1):
     """Stage 3a with materials: slot i's force and couple from its candidates (the other bodies'
     particles near it, candidates.py), their springs stretched over ``step``, and how
     many of them touch it or will after this substep at their closing speed (the next force
     evaluation's count: a count of those touching only would be 0 on a contact's first substep
     and over-damp it, 19 % low at e = 0.1 for volume balls head-on; counting them anew before
     the forces would take a second neighbour search, 75 % more time in a pile). ``wave``: with
-    sleeping, pair_wave's (wave 0 also notes whether i has sleepers among its candidates)."""
+    sleeping, pair_wave's, a run-time value (wave 0 also notes whether i has sleepers among its
+    candidates); −1 without sleeping."""
     a = model.particle_body[i]
     f = ti.Vector.zero(float, 3)
     couple = ti.Vector.zero(float, 3)
@@ -156,7 +157,7 @@ def pair_stage(model: ti.template(), state: ti.template(), world: ti.template(),
         p, r_a = state.particle_x[i], model.particle_radius[a]
         x_a, v_a, w_a = state.x[a], state.v[a], state.omega[a]
         waker = 0
-        if ti.static(wave == 0):
+        if wave == 0:
             waker = sleep.moving(state, world, scratch, a)
         candidates.each_candidate(model, state, scratch, i, a, _add_material_pair,
                                   ti.static(MaterialSums(model, state, world, scratch, i, a, p, r_a, x_a, v_a, w_a,
@@ -165,7 +166,7 @@ def pair_stage(model: ti.template(), state: ti.template(), world: ti.template(),
     scratch.particle_f[i] = f
     scratch.particle_couple[i] = couple
     scratch.contacts[i] = touching
-    if ti.static(wave == 0):
+    if wave == 0:
         pair_slip.note_sleepers(state, scratch, i, sleepers)
 
 
@@ -181,8 +182,9 @@ def _copy_spring(c: ti.template(), j, entry):
 
 @ti.func
 def pair_wave(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(),
-              wave: ti.template(), step):
-    """Stage 3a with materials and sleeping bodies, pass ``wave`` (a top-level loop; each writes its
+              wave, step):
+    """Stage 3a with materials and sleeping bodies, pass ``wave`` (0 or 1: a loop at a parallel
+    kernel's top level, or a run-time value on one thread, where one copy serves both; each writes its
     own slot, its own list's springs and, wave 1, the sleepers' copies of its own pairs: any
     order). Wave 0: the awake bodies' particles, a moving body marking the sleepers it touches
     (sleep.py). Wave 1: the particles of the sleepers woken in wave 0 (their pairs with an awake
@@ -193,16 +195,12 @@ def pair_wave(model: ti.template(), state: ti.template(), world: ti.template(), 
     for t in range(neighbours.num_active(scratch)):
         i = scratch.active[t]
         b = model.particle_body[i]
-        if ti.static(wave == 0):
-            if not sleep.asleep(state, b):
-                pair_stage(model, state, world, scratch, i, step, 0)
-        else:
-            if sleep.asleep(state, b):
-                if not sleep.resting(state, b):
-                    pair_stage(model, state, world, scratch, i, step, 1)
-            elif pair_slip.near_sleepers(state, scratch, i):
-                candidates.each_candidate(model, state, scratch, i, b, _copy_spring,
-                                          ti.static(CopySprings(model, state, scratch, i)), entries=True)
+        asleep = sleep.asleep(state, b)
+        if (wave == 0 and not asleep) or (wave == 1 and asleep and not sleep.resting(state, b)):
+            pair_stage(model, state, world, scratch, i, step, wave)  # one call: the law inlined once
+        elif wave == 1 and not asleep and pair_slip.near_sleepers(state, scratch, i):
+            candidates.each_candidate(model, state, scratch, i, b, _copy_spring,
+                                      ti.static(CopySprings(model, state, scratch, i)), entries=True)
 
 
 @ti.func

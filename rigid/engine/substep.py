@@ -76,8 +76,11 @@ def pair_forces(plan: ti.template(), model: ti.template(), state: ti.template(),
     """Stage 3a, each particle's force and couple from the other bodies', by the schedule's way of
     walking the pairs (the same law, contact.py, and candidates, candidates.py); with materials,
     the pairs' sticking springs stretch over ``step`` (pair_slip.py)."""
-    if ti.static(plan.materials and plan.sleeping):  # in two waves (sleep.py)
+    if ti.static(plan.materials and plan.sleeping and parallel):  # in two waves (sleep.py)
         for wave in ti.static(range(2)):
+            material_stages.pair_wave(model, state, world, scratch, wave, step)
+    elif ti.static(plan.materials and plan.sleeping):  # the same, the wave a run-time value
+        for wave in range(2):
             material_stages.pair_wave(model, state, world, scratch, wave, step)
     elif ti.static(plan.materials):
         for t in range(neighbours.num_active(scratch)):  # each writes its own slot: any order
