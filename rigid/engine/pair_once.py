@@ -88,17 +88,16 @@ def mark_woken(model: ti.template(), state: ti.template(), world: ti.template(),
     pairs with resting sleepers, all skipped: the sweep passes over it at the cost of one test,
     so a settled pile costs next to nothing. Walks bodies (their runs of the active list,
     neighbours.index_active_by_body), not the whole list, for that reason."""
-    for b in range(state.x.shape[0]):
-        if not sleep.asleep(state, b):
-            waker = sleep.moving(state, world, scratch, b)
-            first, end = bp.body_active_range(scratch, b)
-            for t in range(first, end):
-                _note_sleepers(model, state, scratch, scratch.active[t], b, waker)
-    for b in range(state.x.shape[0]):
-        if sleep.asleep(state, b) and not sleep.resting(state, b):  # woken just now
-            first, end = bp.body_active_range(scratch, b)
-            for t in range(first, end):
-                _note_sleepers(model, state, scratch, scratch.active[t], b, False)
+    for turn in range(2):  # the awake bodies, then those woken just now (one call: the walk inlined once)
+        for b in range(state.x.shape[0]):
+            asleep = sleep.asleep(state, b)
+            if (turn == 0 and not asleep) or (turn == 1 and asleep and not sleep.resting(state, b)):
+                waker = 0
+                if turn == 0:
+                    waker = sleep.moving(state, world, scratch, b)
+                first, end = bp.body_active_range(scratch, b)
+                for t in range(first, end):
+                    _note_sleepers(model, state, scratch, scratch.active[t], b, waker)
 
 
 @ti.func
