@@ -12,14 +12,15 @@ step axis. What differs is only the schedule, so that Taichi can run each kernel
   and 4 (atomic sums), then drag;
 - ``update`` per body: explicit (TODO 5, 6, 7) or symplectic Euler from step s to s + 1;
 - ``rows``   the row of step s (x, q, v = P/M, ω, P, L) at frame f.
-``substep`` runs the four stages of one substep (its adjoint is the backward's); ``advance`` runs
-a segment's substeps and rows in one launch (the forward only).
+``substep`` runs the four stages of one substep; ``advance`` runs a segment's substeps and rows
+in one launch, and its adjoint is the backward's (``substep``'s where the loops run in parallel).
 A contact is a thread of its own (the materials' damper is a table lookup whose adjoint is
 long: unrolled over the planes in one particle's thread it took over a minute to compile), and
-the per-particle sum over planes is unrolled (their count is a compile-time constant), so no
-running sum lives in a dynamic loop (Taichi would need an adstack for it). The engine skips planes
-out of a block's reach; a skipped plane's force is exactly zero, so summing every plane gives
-the same force.
+the per-particle sum over planes is unrolled (their count is a compile-time constant). Inside
+``advance`` every stage is a loop below the top, so its mutable locals (that sum among them: the
+planes' count + 2 values) live on Taichi's ad-stacks, which rigid.diff.passes.ad_stack_capacity
+sizes. The engine skips planes out of a block's reach; a skipped plane's force is exactly zero,
+so summing every plane gives the same force.
 """
 
 import taichi as ti
@@ -28,6 +29,14 @@ from ..engine.contact import plane_force, plane_force_sticking
 from ..engine.materials import pair_mu, pair_restitution, plane_damping, sticking_damping
 from ..engine.matvec import matvec
 from ..engine.rotation import quaternion_to_matrix
+
+
+def _compiling_adjoint() -> bool:
+    """Whether Taichi is now compiling a kernel's adjoint (read at compile time, in ti.static)."""
+    from taichi.lang import impl
+    from taichi.lang.enums import AutodiffMode
+
+    return impl.get_runtime().current_kernel.autodiff_mode == AutodiffMode.REVERSE
 
 
 def build(tape, units, scheme: str, materials: bool, num_planes: int, serial: bool = True):
@@ -167,24 +176,36 @@ def build(tape, units, scheme: str, materials: bool, num_planes: int, serial: bo
     @ti.kernel
     def advance(s0: ti.i32, s1: ti.i32, n: ti.i32, nb: ti.i32, dt: float, first: ti.i32, substeps: ti.i32,
                 write_rows: ti.i32):
-        # Substeps s0 .. s1 - 1 in one launch (the forward only): a serial loop over the time index
-        # whose body runs the four stages as inner loops in substep's order, then the row of step
-        # s + 1 where it ends a frame (``first``: the run's step at local step 0). Its rows and
-        # tape equal substep's bit for bit; the backward runs substep's adjoint (rigid.diff.passes).
+        # Substeps s0 .. s1 - 1 in one launch: a serial loop over the time index whose body runs
+        # the four stages as inner loops, then the row of step s + 1 where it ends a frame
+        # (``first``: the run's step at local step 0). Its rows and tape equal substep's bit for
+        # bit. Taichi 1.7's reverse mode turns a loop around only below the top level (hence the
+        # one-pass outer loop) and keeps sibling loops in their written order, so the adjoint is
+        # compiled from the stages written last to first (count, whose adjoint is nothing, is
+        # left out of it).
         ti.loop_config(serialize=True)
-        for s in range(s0, s1):
-            if ti.static(materials):
-                for i in range(n):
-                    count(s, i)
-            for i, j in ti.ndrange(n, P):
-                contacts(s, i, j, dt)
-            for i in range(n):
-                forces(s, i)
-            for b in range(nb):
-                update(s, b, dt)
-            if write_rows != 0 and (first + s + 1) % substeps == 0:
-                for b in range(nb):
-                    row(s + 1, (first + s + 1) // substeps, b)
+        for _once in range(1):
+            for s in range(s0, s1):
+                if ti.static(not _compiling_adjoint()):
+                    if ti.static(materials):
+                        for i in range(n):
+                            count(s, i)
+                    for i, j in ti.ndrange(n, P):
+                        contacts(s, i, j, dt)
+                    for i in range(n):
+                        forces(s, i)
+                    for b in range(nb):
+                        update(s, b, dt)
+                if write_rows != 0 and (first + s + 1) % substeps == 0:
+                    for b in range(nb):
+                        row(s + 1, (first + s + 1) // substeps, b)
+                if ti.static(_compiling_adjoint()):
+                    for b in range(nb):
+                        update(s, b, dt)
+                    for i in range(n):
+                        forces(s, i)
+                    for i, j in ti.ndrange(n, P):
+                        contacts(s, i, j, dt)
 
     @ti.kernel
     def rows(s: ti.i32, frame: ti.i32, nb: ti.i32):

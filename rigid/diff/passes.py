@@ -5,14 +5,15 @@ the whole run where its tape fits TAPE_BYTES, ``segment_frames``). The forward p
 segment in one launch (``advance``) and keeps each segment's starting state (a checkpoint: one
 step of state, on the host) and the rows; the backward pass walks the segments from the last: it
 restores the segment's checkpoint, runs the segment forward again (the last one is still on the
-tape), then runs the adjoints (Taichi's ``kernel.grad``) of the rows and substeps in reverse
-order, one launch a substep, and carries the adjoint of the segment's first state into the
-previous one. Memory is one segment of state (rigid.diff.tape) whatever the horizon; the cost is
+tape), then runs its adjoint (Taichi's ``kernel.grad``: ``advance``'s, one launch a segment, or
+for scenes of many particles the rows' and substeps' in reverse order, one launch a substep) and
+carries the adjoint of the segment's first state into the previous one. Memory is one segment of state (rigid.diff.tape) whatever the horizon; the cost is
 one more forward run of every segment but the last (none when the run is one segment).
 """
 from __future__ import annotations
 
 import time
+from contextlib import contextmanager
 
 import numpy as np
 
@@ -24,7 +25,30 @@ TAPE_BYTES = 256 * 2**20  # the tape's budget (state, forces and their adjoints)
 FRAMES_AT_LEAST = 64  # a tape holds at least this many frames (fewer where the budget says so)
 SERIAL_PARTICLES = 512  # up to this many (padded) particles a substep's loops run on one thread
 PLANES_AT_LEAST = 5  # the box's floor and four walls
+AD_STACK_SPARE = 32  # ad-stack entries the adjoints are compiled with, beyond the planes' count
 _TAPES: dict = {}
+
+
+@contextmanager
+def ad_stack_capacity(entries: int):
+    """Compile the adjoints launched inside with ad-stacks of ``entries`` entries each (Taichi's
+    ``ad_stack_size``), then restore the process's setting. A mutable local in a loop of a
+    reverse-mode kernel lives on an ad-stack; Taichi 1.7 sizes each to the most values it holds
+    (``ad_stack_size = 0``), but allocates its header as 4 bytes where the runtime uses 8, so a
+    full stack's top adjoint overhangs its allocation by 4 bytes into the neighbouring local:
+    silent, and dependent on what earlier kernels left on the native stack (``advance``'s adjoint
+    drifted after other kernels ran). With more entries than any local takes in one iteration of
+    a stage, no stack is ever full: the force sum over the planes takes the planes' count + 2
+    values, the other locals (the repository's TODO units included) at most 5."""
+    from taichi.lang import impl
+
+    config = impl.current_cfg()
+    before = config.ad_stack_size
+    config.ad_stack_size = entries
+    try:
+        yield
+    finally:
+        config.ad_stack_size = before
 
 
 def _power_of_two(n: int, least: int) -> int:
@@ -47,8 +71,8 @@ def segment_frames(frames: int, substeps: int, bodies: int, particles: int, plan
 
 
 class Pass:
-    def __init__(self, problem, units, frames: int, checkpoint_frames: int | None = None):
-        self.problem, self.units, self.frames = problem, units, frames
+    def __init__(self, problem, units, frames: int, checkpoint_frames: int | None = None, fused: bool = True):
+        self.problem, self.units, self.frames, self.fused = problem, units, frames, fused
         self.substeps = problem.substeps
         B, N = problem.num_bodies, problem.num_particles
         # Fields sized up (particles and frames to powers of two, at least the box's 5 planes: the
@@ -69,7 +93,7 @@ class Pass:
             serial = key[6] <= SERIAL_PARTICLES
             _TAPES[key] = (tape, kernel_module.build(tape, units, problem.scheme, problem.materials, P, serial))
         self.tape, self.k = _TAPES[key]
-        self.serial = key[6] <= SERIAL_PARTICLES
+        self.serial, self.planes = key[6] <= SERIAL_PARTICLES, P
         self.tape.load(problem)
         self.checkpoints: list = []
         self.seconds = dict(rerun=0.0, adjoint=0.0)  # of the last backward
@@ -150,8 +174,7 @@ class Pass:
     def backward(self, cotangents: dict) -> dict:
         """The adjoint of the last forward run for ∂L/∂rows = ``cotangents``: ∂L/∂ each parameter
         field (rigid.diff.tape.Tape.PARAMETERS), as float64 numpy."""
-        t, k, p = self.tape, self.k, self.problem
-        B, N, dt = p.num_bodies, p.num_particles, p.dt
+        t, B = self.tape, self.problem.num_bodies
         t.clear_parameter_grads()
         for key, f in t.row_fields().items():
             seed = np.zeros(f.shape + (f.n,))
@@ -159,6 +182,14 @@ class Pass:
                 seed[:self.frames + 1, :B] = cotangents[key]
             f.grad.from_numpy(seed)
         self.seconds = dict(rerun=0.0, adjoint=0.0)
+        with ad_stack_capacity(AD_STACK_SPARE + self.planes):
+            self._adjoints()
+        return {name: np.array(getattr(t, name).grad.to_numpy(), np.float64) for name in t.PARAMETERS}
+
+    def _adjoints(self) -> None:
+        """The segments' adjoints from the last (each re-run first but the last), then the start's."""
+        k, p = self.k, self.problem
+        B, N, dt = p.num_bodies, p.num_particles, p.dt
         for g in reversed(range(self.num_segments)):
             start = time.perf_counter()
             if g < self.num_segments - 1:  # the last segment is still on the tape
@@ -174,19 +205,20 @@ class Pass:
                 for field, value in zip(self._checkpoint_fields(), self._carried):
                     field.from_numpy(value)
                 k.restore_grad(end, B, N)
-            # The adjoint a substep a launch: ``advance``'s own adjoint (one launch a segment) matched
-            # this to 1e-15 on a fresh tape but drifted by up to 1 % after runs at other values
-            # (Taichi 1.7), so the forward alone is fused.
-            for s in range(end, -1, -1):
-                frame = self._frame_at(g, s)
-                if frame is not None and (s > 0 or g == 0):
-                    k.rows.grad(s, frame, B)
-                if s > 0:
-                    k.substep.grad(s - 1, N, B, dt)
+            if self.serial and self.fused:
+                k.advance.grad(0, end, N, B, dt, g * self.segment, self.substeps, 1)
+                if g == 0:
+                    k.rows.grad(0, 0, B)
+            else:
+                for s in range(end, -1, -1):
+                    frame = self._frame_at(g, s)
+                    if frame is not None and (s > 0 or g == 0):
+                        k.rows.grad(s, frame, B)
+                    if s > 0:
+                        k.substep.grad(s - 1, N, B, dt)
             k.save_grad(0, B, N)
             self._carried = [f.to_numpy() for f in self._checkpoint_fields()]
             self.seconds["adjoint"] += time.perf_counter() - start
         k.init.grad(B)
         k.invert.grad(B)
         k.inertia.grad(N)
-        return {name: np.array(getattr(t, name).grad.to_numpy(), np.float64) for name in t.PARAMETERS}
