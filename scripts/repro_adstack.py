@@ -7,7 +7,7 @@ and ``stack_top_primal`` use 8 (a ``u64``): a full stack's top adjoint overhangs
 4 bytes into the next local on the native stack. The project's explicit-Euler update renormalises
 the quaternion (``new_q = new_q / new_q.norm()``: a stack of 3 values, full at its peak); in a loop
 two levels below the top, as in the fused adjoint, its gradients depend on what the native stack
-held before. Compiled with spare entries (rigid.diff.passes.ad_stack_capacity) they are exact.
+held before. Compiled with spare entries (rigid.diff.passes.compile_options) they are exact.
 
     .venv/bin/python scripts/repro_adstack.py
 """
@@ -23,7 +23,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 ti.init(arch=ti.cpu, default_fp=ti.f64, offline_cache=False, log_level=ti.WARN, cfg_optimization=False,
         advanced_optimization=False)
 
-from rigid.diff.passes import ad_stack_capacity  # noqa: E402
+from rigid.diff.passes import compile_options  # noqa: E402
 from rigid.engine.rotation import quaternion_to_matrix  # noqa: E402
 from rigid.engine.units import default_units  # noqa: E402
 
@@ -96,7 +96,7 @@ def main():
     auto, spare = fused_kernel(), fused_kernel()
     for name, kernel, entries in (("sized by Taichi", auto, 0), ("with spare entries", spare, 8)):
         errors = []
-        with ad_stack_capacity(entries):
+        with compile_options(ad_stack_size=entries):
             for value in (None, 1e100, -3.0):
                 if value is not None:
                     scribble(value)

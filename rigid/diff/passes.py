@@ -25,30 +25,37 @@ TAPE_BYTES = 256 * 2**20  # the tape's budget (state, forces and their adjoints)
 FRAMES_AT_LEAST = 64  # a tape holds at least this many frames (fewer where the budget says so)
 SERIAL_PARTICLES = 512  # up to this many (padded) particles a substep's loops run on one thread
 PLANES_AT_LEAST = 5  # the box's floor and four walls
-AD_STACK_SPARE = 32  # ad-stack entries the adjoints are compiled with, beyond the planes' count
+AD_STACK_SPARE = 32  # ad-stack entries the kernels are compiled with, beyond the planes' count
 _TAPES: dict = {}
 
 
 @contextmanager
-def ad_stack_capacity(entries: int):
-    """Compile the adjoints launched inside with ad-stacks of ``entries`` entries each (Taichi's
-    ``ad_stack_size``), then restore the process's setting. A mutable local in a loop of a
-    reverse-mode kernel lives on an ad-stack; Taichi 1.7 sizes each to the most values it holds
-    (``ad_stack_size = 0``), but allocates its header as 4 bytes where the runtime uses 8, so a
-    full stack's top adjoint overhangs its allocation by 4 bytes into the neighbouring local:
-    silent, and dependent on what earlier kernels left on the native stack (``advance``'s adjoint
-    drifted after other kernels ran). With more entries than any local takes in one iteration of
-    a stage, no stack is ever full: the force sum over the planes takes the planes' count + 2
-    values, the other locals (the repository's TODO units included) at most 5."""
+def compile_options(**options):
+    """Kernels first launched inside compile with these Taichi CompileConfig ``options``; the
+    process's own are restored after (rigid.runtime's serve the engine). The pass uses two:
+
+    - ``cfg_optimization=True``: Taichi's store-to-load forwarding and dead-store passes, which the
+      engine goes without for its compile time, make the fused adjoint about 3x faster and the
+      forward 1.3x for a few seconds more of its first compile.
+    - ``ad_stack_size`` (AD_STACK_SPARE + the planes' count). A mutable local in a loop of a
+      reverse-mode kernel lives on an ad-stack; Taichi 1.7 sizes each to the most values it holds
+      (``ad_stack_size = 0``), but allocates its header as 4 bytes where the runtime uses 8, so a
+      full stack's top adjoint overhangs its allocation by 4 bytes into the neighbouring local:
+      silent, and dependent on what earlier kernels left on the native stack (``advance``'s adjoint
+      drifted after other kernels ran). With more entries than any local takes in one iteration
+      of a stage, no stack is ever full: the force sum over the planes takes the planes' count + 2
+      values, the other locals (the repository's TODO units included) at most 5."""
     from taichi.lang import impl
 
     config = impl.current_cfg()
-    before = config.ad_stack_size
-    config.ad_stack_size = entries
+    before = {name: getattr(config, name) for name in options}
+    for name, value in options.items():
+        setattr(config, name, value)
     try:
         yield
     finally:
-        config.ad_stack_size = before
+        for name, value in before.items():
+            setattr(config, name, value)
 
 
 def _power_of_two(n: int, least: int) -> int:
@@ -93,7 +100,8 @@ class Pass:
             serial = key[6] <= SERIAL_PARTICLES
             _TAPES[key] = (tape, kernel_module.build(tape, units, problem.scheme, problem.materials, P, serial))
         self.tape, self.k = _TAPES[key]
-        self.serial, self.planes = key[6] <= SERIAL_PARTICLES, P
+        self.serial = key[6] <= SERIAL_PARTICLES
+        self.options = dict(cfg_optimization=True, ad_stack_size=AD_STACK_SPARE + P)  # compile_options
         self.tape.load(problem)
         self.checkpoints: list = []
         self.seconds = dict(rerun=0.0, adjoint=0.0)  # of the last backward
@@ -146,6 +154,11 @@ class Pass:
 
     def forward(self) -> dict:
         """Run the scene; returns the rows (as rigid.Simulator.advance, float64)."""
+        with compile_options(**self.options):
+            self._forward()
+        return self.rows()
+
+    def _forward(self) -> None:
         t, k, p = self.tape, self.k, self.problem
         B, N = p.num_bodies, p.num_particles
         t.I0.fill(0)
@@ -161,7 +174,6 @@ class Pass:
             k.save(0, B, N)
             self.checkpoints.append([f.to_numpy() for f in self._checkpoint_fields()])
             self._run_segment(g, True)
-        return self.rows()
 
     def _checkpoint_fields(self):
         t = self.tape
@@ -182,7 +194,7 @@ class Pass:
                 seed[:self.frames + 1, :B] = cotangents[key]
             f.grad.from_numpy(seed)
         self.seconds = dict(rerun=0.0, adjoint=0.0)
-        with ad_stack_capacity(AD_STACK_SPARE + self.planes):
+        with compile_options(**self.options):
             self._adjoints()
         return {name: np.array(getattr(t, name).grad.to_numpy(), np.float64) for name in t.PARAMETERS}
 
