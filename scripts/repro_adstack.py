@@ -1,15 +1,10 @@
 """Taichi 1.7's ad-stack overhang, alone: why ``advance``'s adjoint drifted (docs/gradients.md).
 
-A mutable local in a loop of a reverse-mode kernel lives on an ad-stack. With ``ad_stack_size = 0``
-(the default) Taichi sizes each stack to the most values it holds, but allocates its header as 4
-bytes (``AdStackAllocaStmt::size_in_bytes``: ``sizeof(int32)``) where the runtime's ``stack_push``
-and ``stack_top_primal`` use 8 (a ``u64``): a full stack's top adjoint overhangs its allocation by
-4 bytes into the next local on the native stack. The project's explicit-Euler update renormalises
-the quaternion (``new_q = new_q / new_q.norm()``: a stack of 3 values, full at its peak); in a loop
-two levels below the top, as in the fused adjoint, its gradients depend on what the native stack
-held before. Compiled with spare entries (rigid.diff.passes.compile_options) they are exact.
-
-    .venv/bin/python scripts/repro_adstack.py
+An ad-stack (a mutable local in a loop of a reverse-mode kernel) is sized to the most values it
+holds, but allocated with a 4-byte header where the runtime uses 8: a full stack's top adjoint
+overhangs into the next local on the native stack. The explicit Euler update (TODO 6 renormalises
+q: a full stack) in a loop two levels below the top, as in the fused adjoint, gives gradients that
+depend on what the native stack held; with spare entries (passes.compile_options), exact ones.
 """
 import sys
 from pathlib import Path
@@ -19,7 +14,7 @@ import taichi as ti
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-# advanced_optimization=False (the suite's quick compile): the frame layout where the overhang hits a live local
+# advanced_optimization=False (the suite's quick compile): a frame layout where it hits a live local
 ti.init(arch=ti.cpu, default_fp=ti.f64, offline_cache=False, log_level=ti.WARN, cfg_optimization=False,
         advanced_optimization=False)
 
@@ -57,14 +52,13 @@ def fused_kernel():
 
 
 @ti.kernel
-def one(s: ti.i32, nb: ti.i32, dt: ti.f64):
+def one(s: ti.i32, nb: ti.i32, dt: ti.f64):  # top-level loops: the per-substep adjoint's shape
     for b in range(nb):
         update(s, b, dt)
 
 
 @ti.kernel
-def scribble(value: ti.f64):
-    """Another kernel: leaves ``value`` in a frame of 512 doubles on the native stack."""
+def scribble(value: ti.f64):  # another kernel: leaves ``value`` in 512 doubles on the native stack
     ti.loop_config(serialize=True)
     for _once in range(1):
         v = ti.Vector.zero(ti.f64, 512)
@@ -77,8 +71,7 @@ def scribble(value: ti.f64):
 def adjoint(launch):
     for f in (x, P, L, w, F, T, q, M, I0inv):
         f.grad.fill(0)
-    q.grad[S, 0] = (1.0, 2.0, 3.0, 4.0)
-    w.grad[S, 0] = x.grad[S, 0] = (1.0, -1.0, 0.5)
+    q.grad[S, 0], w.grad[S, 0], x.grad[S, 0] = (1.0, 2.0, 3.0, 4.0), (1.0, -1.0, 0.5), (1.0, -1.0, 0.5)
     launch()
     return np.concatenate([f.grad.to_numpy()[0].ravel() for f in (x, q, P, L, w)])
 
@@ -90,11 +83,9 @@ def main():
         f.from_numpy(rng.normal(size=(S + 1, NB, 3)))
     q.from_numpy(np.tile(np.array([0.9, 0.1, 0.3, 0.2]) / np.linalg.norm([0.9, 0.1, 0.3, 0.2]), (S + 1, NB, 1)))
     dt = 1e-3
-    for s in range(S):
-        one(s, NB, dt)
-    reference = adjoint(lambda: [one.grad(s, NB, dt) for s in reversed(range(S))])  # top-level loops
-    auto, spare = fused_kernel(), fused_kernel()
-    for name, kernel, entries in (("sized by Taichi", auto, 0), ("with spare entries", spare, 8)):
+    _ = [one(s, NB, dt) for s in range(S)]
+    reference = adjoint(lambda: [one.grad(s, NB, dt) for s in reversed(range(S))])
+    for name, kernel, entries in (("sized by Taichi", fused_kernel(), 0), ("with spare entries", fused_kernel(), 8)):
         errors = []
         with compile_options(ad_stack_size=entries):
             for value in (None, 1e100, -3.0):

@@ -52,8 +52,9 @@ BOUNCE = dict(mesh="sphere.obj", scale=0.3, initial_velocity=(0.8, -1.0, 0.4), i
 
 def repeat() -> dict:
     """The gradient at A, then runs at other values B (gradients by the default, fused adjoint, and
-    one by the per-substep adjoint), then the gradient at A again; and the per-substep adjoint's at
-    A. The adjoint kernels share one tape and one thread's native stack with every run between."""
+    one by the per-substep adjoint), then the gradient at A again; and at A in segments of 8 frames
+    (checkpoints, re-runs, carried adjoints), and the per-substep adjoint's, whole and in segments.
+    The adjoint kernels share one tape and one thread's native stack with every run between."""
     from rigid.diff.gradient import gather, prepare
     from rigid.diff.passes import Pass
 
@@ -63,9 +64,9 @@ def repeat() -> dict:
     cot = {"x": rng.normal(size=(frames + 1, 1, 3)), "q": rng.normal(size=(frames + 1, 1, 4))}
     flat = lambda g: np.concatenate([np.ravel(g[n]) for n in wrt]).tolist()
 
-    def per_substep(keys):
+    def per_substep(keys, **options):
         problem, names, _frames, units = prepare(keys, frames, wrt)
-        run = Pass(problem, units, frames, fused=False)
+        run = Pass(problem, units, frames, **{"fused": False, **options})
         run.forward()
         return flat(gather(problem, run.backward(cot), names))
 
@@ -74,7 +75,9 @@ def repeat() -> dict:
         rigid.gradient({**scene, "restitution": e, "initial_velocity": (0.9, -1.1, 0.3)}, frames, cot, wrt)
     per_substep({**scene, "restitution": 0.62})
     again = flat(rigid.gradient(scene, frames, cot, wrt))
-    return dict(first=first, again=again, per_substep=per_substep(scene))
+    segments = flat(rigid.gradient(scene, frames, cot, wrt, checkpoint_frames=8))  # 4 segments, re-run
+    return dict(first=first, again=again, segments=segments, per_substep=per_substep(scene),
+                per_substep_segments=per_substep(scene, checkpoint_frames=8))
 
 
 def main() -> None:

@@ -6,8 +6,10 @@ rigid.engine.materials.plane_damping when the scene sets materials), drag as
 rigid.engine.forces.particle_force, the updates of rigid.engine.schemes written on the
 step axis. What differs is only the schedule, so that Taichi can run each kernel backward:
 
-- ``count``  particles touching a plane at step s, per body (the m_eff = M / n of materials.py);
-- ``contacts`` per (particle, plane): the plane's force fc[s] and the sticking spring's step s + 1;
+- ``reach``  per particle: the planes within its radius at step s (near), and with materials the
+  particles touching a plane, per body (count: the m_eff = M / n of materials.py);
+- ``contacts`` per (particle, plane): the plane's force fc[s] and the sticking spring's step s + 1
+  (for a pair near; the others' are zero, and neither written nor read);
 - ``forces`` per particle: f = TODO 2 + Σ fc in plane order, into F[s], T[s] through TODO 3
   and 4 (atomic sums), then drag;
 - ``update`` per body: explicit (TODO 5, 6, 7) or symplectic Euler from step s to s + 1;
@@ -53,12 +55,14 @@ def build(tape, units, scheme: str, materials: bool, num_planes: int, serial: bo
 
     @ti.kernel
     def inertia(n: ti.i32):
+        ti.loop_config(serialize=serial)
         for i in range(n):
             b = t.particle_body[i]
             t.I0[b] += u.particle_inertia(t.m[b], t.r0[i])
 
     @ti.kernel
     def invert(nb: ti.i32):
+        ti.loop_config(serialize=serial)
         for b in range(nb):
             t.I0inv[b] = t.I0[b].inverse()
             t.M[b] = t.m[b] * t.body_count[b]
@@ -66,6 +70,7 @@ def build(tape, units, scheme: str, materials: bool, num_planes: int, serial: bo
     @ti.kernel
     def init(nb: ti.i32):
         # rigid.engine.schemes.init_body and store: L = R I0 Rᵀ ω, P = M v, ω from TODO 7.
+        ti.loop_config(serialize=serial)
         for b in range(nb):
             q = t.q0[b]
             R = quaternion_to_matrix(q)
@@ -75,41 +80,54 @@ def build(tape, units, scheme: str, materials: bool, num_planes: int, serial: bo
             t.L[0, b], t.w[0, b] = L_same, omega
 
     @ti.func
-    def count(s, i):
+    def reach(s, i):
+        # Per particle: near[s, i, j] = whether its sphere is within its radius of plane j (beyond,
+        # the law gives no force and a spring of zero, exactly: contacts skips the pair; the margin
+        # keeps rounding out of the choice); with materials, the planes it touches into count[s, b].
         b = t.particle_body[i]
         x, R, _v, _w = body_motion(s, b)
         p = x + matvec(R, t.r0[i])
         touching = 0
         for j in ti.static(range(P)):
             plane = t.plane[j]
-            if plane[3] + t.radius[b] - ti.Vector([plane[0], plane[1], plane[2]]).dot(p) > 0:
-                touching += 1
-        t.count[s, b] += touching
+            gap = plane[3] - ti.Vector([plane[0], plane[1], plane[2]]).dot(p)
+            t.near[s, i, j] = ti.select(gap < -2.0 * t.radius[b], 0, 1)
+            if ti.static(materials):
+                if plane[3] + t.radius[b] - ti.Vector([plane[0], plane[1], plane[2]]).dot(p) > 0:
+                    touching += 1
+        if ti.static(materials):
+            t.count[s, b] += touching
 
     @ti.func
     def contacts(s, i, j, dt):
-        # One (particle, plane) a thread: the plane's force on the particle's sphere, into fc[s].
-        b = t.particle_body[i]
-        x, R, v, omega = body_motion(s, b)
-        r = matvec(R, t.r0[i])
-        p = x + r
-        pv = v + omega.cross(r)
-        g, k, radius, plane = t.g[None], t.k[None], t.radius[b], t.plane[j]
-        if ti.static(materials):  # rigid.engine.material_stages.block_forces
-            m_eff = t.M[b] / ti.max(t.count[s, b], 1)
-            normal = ti.Vector([plane[0], plane[1], plane[2]])
-            slip = t.slip[s, i, j]
-            c, memory = plane_damping(pair_restitution(t.e_b[b], t.e_p[j]), k, m_eff, dt, -g.dot(normal),
-                                      normal.dot(slip), normal.dot(pv), plane[3] + radius - normal.dot(p),
-                                      t.table, 0, t.c_world[None], True)
-            mu = pair_mu(t.mu_b[b], t.mu_p[j], t.mu_world[None])
-            fc, new_slip, touching = plane_force_sticking(p, pv, radius, plane, k, c,
-                                                          sticking_damping(k, m_eff, dt), mu, slip, dt)
-            t.fc[s, i, j] = fc
-            t.slip[s + 1, i, j] = new_slip + (memory * touching) * normal
-        else:  # rigid.engine.stages._block_loop
-            fc, _e = plane_force(p, pv, radius, plane, k, t.c_world[None], t.mu_world[None])
-            t.fc[s, i, j] = fc
+        # One (particle, plane) a thread: the plane's force on the particle's sphere, into fc[s]
+        # (a pair not near leaves it: its force is zero, and forces reads fc only where near says
+        # so), and its spring at s + 1 (zero for a pair not near).
+        if ti.static(materials):
+            if t.near[s, i, j] == 0:
+                t.slip[s + 1, i, j] = ti.Vector.zero(float, 3)
+        if t.near[s, i, j] != 0:
+            b = t.particle_body[i]
+            x, R, v, omega = body_motion(s, b)
+            r = matvec(R, t.r0[i])
+            p = x + r
+            pv = v + omega.cross(r)
+            g, k, radius, plane = t.g[None], t.k[None], t.radius[b], t.plane[j]
+            if ti.static(materials):  # rigid.engine.material_stages.block_forces
+                m_eff = t.M[b] / ti.max(t.count[s, b], 1)
+                normal = ti.Vector([plane[0], plane[1], plane[2]])
+                slip = t.slip[s, i, j]
+                c, memory = plane_damping(pair_restitution(t.e_b[b], t.e_p[j]), k, m_eff, dt, -g.dot(normal),
+                                          normal.dot(slip), normal.dot(pv), plane[3] + radius - normal.dot(p),
+                                          t.table, 0, t.c_world[None], True)
+                mu = pair_mu(t.mu_b[b], t.mu_p[j], t.mu_world[None])
+                fc, new_slip, touching = plane_force_sticking(p, pv, radius, plane, k, c,
+                                                              sticking_damping(k, m_eff, dt), mu, slip, dt)
+                t.fc[s, i, j] = fc
+                t.slip[s + 1, i, j] = new_slip + (memory * touching) * normal
+            else:  # rigid.engine.stages._block_loop
+                fc, _e = plane_force(p, pv, radius, plane, k, t.c_world[None], t.mu_world[None])
+                t.fc[s, i, j] = fc
 
     @ti.func
     def forces(s, i):
@@ -121,7 +139,8 @@ def build(tape, units, scheme: str, materials: bool, num_planes: int, serial: bo
         p = x + r
         f = u.gravity_force(t.m[b], t.g[None])
         for j in ti.static(range(P)):
-            f += t.fc[s, i, j]
+            if t.near[s, i, j] != 0:
+                f += t.fc[s, i, j]
         t.F[s, b] += u.total_force_term(f)
         t.T[s, b] += u.torque_term(p, x, R, r0, f)
         drag = -t.drag[b] * (v + omega.cross(r))  # rigid.engine.forces.particle_force, summed apart as add_external does
@@ -154,10 +173,9 @@ def build(tape, units, scheme: str, materials: bool, num_planes: int, serial: bo
         # its adjoint, which runs the loops' adjoints in reverse order). Each loop writes only step
         # s + 1 or the atomic sums of step s that a later loop reads, never what it read itself.
         # (Taichi's reverse mode takes a kernel of loops only: the stages are each loop's body.)
-        if ti.static(materials):
-            ti.loop_config(serialize=serial)
-            for i in range(n):
-                count(s, i)
+        ti.loop_config(serialize=serial)
+        for i in range(n):
+            reach(s, i)
         ti.loop_config(serialize=serial)
         for i, j in ti.ndrange(n, P):
             contacts(s, i, j, dt)
@@ -181,15 +199,14 @@ def build(tape, units, scheme: str, materials: bool, num_planes: int, serial: bo
         # (``first``: the run's step at local step 0). Its rows and tape equal substep's bit for
         # bit. Taichi 1.7's reverse mode turns a loop around only below the top level (hence the
         # one-pass outer loop) and keeps sibling loops in their written order, so the adjoint is
-        # compiled from the stages written last to first (count, whose adjoint is nothing, is
+        # compiled from the stages written last to first (reach, whose adjoint is nothing, is
         # left out of it).
         ti.loop_config(serialize=True)
         for _once in range(1):
             for s in range(s0, s1):
                 if ti.static(not _compiling_adjoint()):
-                    if ti.static(materials):
-                        for i in range(n):
-                            count(s, i)
+                    for i in range(n):
+                        reach(s, i)
                     for i, j in ti.ndrange(n, P):
                         contacts(s, i, j, dt)
                     for i in range(n):
@@ -209,29 +226,34 @@ def build(tape, units, scheme: str, materials: bool, num_planes: int, serial: bo
 
     @ti.kernel
     def rows(s: ti.i32, frame: ti.i32, nb: ti.i32):
+        ti.loop_config(serialize=serial)
         for b in range(nb):
             row(s, frame, b)
 
     @ti.kernel
     def clear(end: ti.i32, nb: ti.i32, n: ti.i32, mode: ti.i32):
         """Zero, over steps 0 .. end and the particles in use (not the whole tape): mode 0 the
-        atomic sums (F, T, count) before a run, 1 every adjoint before a backward, 2 the sticking
+        atomic sums (F, T, count) before a run, 1 the adjoints before a segment's backward (per
+        body every step; the springs' at step 0 only, the one step whose adjoint no store
+        consumes: each store's adjoint zeroes what it reads, Tape.clean), 2 I0 and the sticking
         springs of step 0 (a run's start)."""
         zero = ti.Vector.zero(float, 3)
+        ti.loop_config(serialize=serial)
         for s, b in ti.ndrange(end + 1, nb):
             if mode == 0:
                 t.F[s, b], t.T[s, b], t.count[s, b] = zero, zero, 0
             elif mode == 1:
                 t.F.grad[s, b], t.T.grad[s, b], t.x.grad[s, b], t.P.grad[s, b] = zero, zero, zero, zero
                 t.L.grad[s, b], t.w.grad[s, b], t.q.grad[s, b] = zero, zero, ti.Vector.zero(float, 4)
-        for s, i, j in ti.ndrange(end + 1, n, P):
-            if mode == 1:
-                t.fc.grad[s, i, j] = zero
-                if ti.static(materials):
-                    t.slip.grad[s, i, j] = zero
-            elif ti.static(materials):
-                if mode == 2 and s == 0:
-                    t.slip[s, i, j] = zero
+            elif mode == 2:
+                t.I0[b] = ti.Matrix.zero(float, 3, 3)
+        if ti.static(materials):
+            ti.loop_config(serialize=serial)
+            for i, j in ti.ndrange(n, P):
+                if mode == 1:
+                    t.slip.grad[0, i, j] = zero
+                elif mode == 2:
+                    t.slip[0, i, j] = zero
 
     @ti.kernel
     def save(s: ti.i32, nb: ti.i32, n: ti.i32):
@@ -269,11 +291,7 @@ def build(tape, units, scheme: str, materials: bool, num_planes: int, serial: bo
             for i, j in ti.ndrange(n, P):
                 t.slip.grad[s, i, j] = t.c_slip[i, j]
 
-    class Kernels:
-        pass
+    from types import SimpleNamespace
 
-    k = Kernels()
-    for name, fn in dict(inertia=inertia, invert=invert, init=init, clear=clear, substep=substep, advance=advance, rows=rows, save=save, restore=restore, save_grad=save_grad,
-                         restore_grad=restore_grad).items():
-        setattr(k, name, fn)
-    return k
+    return SimpleNamespace(inertia=inertia, invert=invert, init=init, clear=clear, substep=substep, advance=advance,
+                           rows=rows, save=save, restore=restore, save_grad=save_grad, restore_grad=restore_grad)

@@ -64,8 +64,9 @@ def _power_of_two(n: int, least: int) -> int:
 
 def step_bytes(bodies: int, particles: int, planes: int, materials: bool) -> int:
     """A tape's bytes a step: per body x, P, L, ω, F, τ, q and their adjoints, the count; per
-    (particle, plane) the contact force and (materials) the sticking spring, with adjoints."""
-    return bodies * (2 * 22 * 8 + 4) + particles * planes * 3 * 8 * 2 * (2 if materials else 1)
+    (particle, plane) the contact force and (materials) the sticking spring, with adjoints, and
+    the near flag."""
+    return bodies * (2 * 22 * 8 + 4) + particles * planes * (3 * 8 * 2 * (2 if materials else 1) + 4)
 
 
 def segment_frames(frames: int, substeps: int, bodies: int, particles: int, planes: int, materials: bool) -> int:
@@ -159,9 +160,8 @@ class Pass:
         return self.rows()
 
     def _forward(self) -> None:
-        t, k, p = self.tape, self.k, self.problem
+        k, p = self.k, self.problem
         B, N = p.num_bodies, p.num_particles
-        t.I0.fill(0)
         k.clear(0, B, N, 2)
         k.inertia(N)
         k.invert(B)
@@ -171,8 +171,10 @@ class Pass:
             if g > 0:
                 k.save(self._length(g - 1), B, N)
                 k.restore(0, B, N)
-            k.save(0, B, N)
-            self.checkpoints.append([f.to_numpy() for f in self._checkpoint_fields()])
+            if g < self.num_segments - 1:  # the backward re-runs every segment but the last
+                k.save(0, B, N)
+            self.checkpoints.append([f.to_numpy() for f in self._checkpoint_fields()]
+                                    if g < self.num_segments - 1 else [])
             self._run_segment(g, True)
 
     def _checkpoint_fields(self):
@@ -180,23 +182,23 @@ class Pass:
         return (t.c_x, t.c_q, t.c_P, t.c_L, t.c_w, t.c_slip)
 
     def rows(self) -> dict:
-        B = self.problem.num_bodies
-        return {key: f.to_numpy()[:self.frames + 1, :B].astype(np.float64) for key, f in self.tape.row_fields().items()}
+        return self.tape.rows(self.frames, self.problem.num_bodies)
 
     def backward(self, cotangents: dict) -> dict:
         """The adjoint of the last forward run for ∂L/∂rows = ``cotangents``: ∂L/∂ each parameter
         field (rigid.diff.tape.Tape.PARAMETERS), as float64 numpy."""
-        t, B = self.tape, self.problem.num_bodies
-        t.clear_parameter_grads()
-        for key, f in t.row_fields().items():
-            seed = np.zeros(f.shape + (f.n,))
-            if key in cotangents:
-                seed[:self.frames + 1, :B] = cotangents[key]
-            f.grad.from_numpy(seed)
+        t = self.tape
         self.seconds = dict(rerun=0.0, adjoint=0.0)
         with compile_options(**self.options):
+            if not t.clean:  # a backward stopped half-way: its adjoints may be anywhere
+                for f in (t.fc, t.slip, *t.row_fields().values()):
+                    f.grad.fill(0)
+            t.clean = False
+            t.clear_parameter_grads()
+            t.seed(cotangents, self.frames, self.problem.num_bodies)
             self._adjoints()
-        return {name: np.array(getattr(t, name).grad.to_numpy(), np.float64) for name in t.PARAMETERS}
+            t.clean = True
+        return t.parameter_grads()
 
     def _adjoints(self) -> None:
         """The segments' adjoints from the last (each re-run first but the last), then the start's."""
@@ -228,8 +230,9 @@ class Pass:
                         k.rows.grad(s, frame, B)
                     if s > 0:
                         k.substep.grad(s - 1, N, B, dt)
-            k.save_grad(0, B, N)
-            self._carried = [f.to_numpy() for f in self._checkpoint_fields()]
+            if g > 0:
+                k.save_grad(0, B, N)
+                self._carried = [f.to_numpy() for f in self._checkpoint_fields()]
             self.seconds["adjoint"] += time.perf_counter() - start
         k.init.grad(B)
         k.invert.grad(B)
