@@ -10,6 +10,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+from taichi.lang.util import to_numpy_type
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
@@ -44,7 +45,8 @@ def tape_bytes(tape) -> int:
                 count = int(np.prod(f.shape)) * (getattr(f, "n", 1) * getattr(f, "m", 1))
             except Exception:
                 continue
-            total += count * 8 * (2 if getattr(f, "grad", None) is not None else 1)
+            size = np.dtype(to_numpy_type(f.dtype)).itemsize
+            total += count * size * (2 if getattr(f, "grad", None) is not None else 1)
     return total
 
 

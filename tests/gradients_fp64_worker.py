@@ -119,7 +119,9 @@ def main() -> None:
     cot = cotangent(frames, final=(1.0, 0.0, 0.0), every_y=0.0)
     scene = {**box, "friction": 0.3}
     g = rigid.gradient(scene, frames, cot, ["friction"])
-    out["sliding"] = dict(mu=float(g["friction"]), fd_mu=central(scene, frames, cot, "friction"))
+    segments = rigid.gradient(scene, frames, cot, ["friction"], checkpoint_frames=3)  # springs carried across
+    out["sliding"] = dict(mu=float(g["friction"]), fd_mu=central(scene, frames, cot, "friction"),
+                          mu_segments=float(segments["friction"]))
     scene = {**box, "initial_velocity": (0.0, 0.0, 0.0), "collision_stiffness": 1e4}
     cot = cotangent(frames, final=(0.0, 1.0, 0.0), every_y=0.0)
     g = rigid.gradient(scene, frames, cot, ["collision_stiffness"])

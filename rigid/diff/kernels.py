@@ -6,10 +6,10 @@ rigid.engine.materials.plane_damping when the scene sets materials), drag as
 rigid.engine.forces.particle_force, the updates of rigid.engine.schemes written on the
 step axis. What differs is only the schedule, so that Taichi can run each kernel backward:
 
-- ``reach``  per particle: the planes within its radius at step s (near), and with materials the
-  particles touching a plane, per body (count: the m_eff = M / n of materials.py);
-- ``contacts`` per (particle, plane): the plane's force fc[s] and the sticking spring's step s + 1
-  (for a pair near; the others' are zero, and neither written nor read);
+- ``reach``  per particle: the planes within its radius at step s (near, and the pairs near listed),
+  with materials the particles touching a plane, per body (count: the m_eff = M / n);
+- ``contacts`` per pair near: the plane's force fc[s] and the sticking spring's step s + 1 (the
+  other pairs' are zero, and neither written nor read);
 - ``forces`` per particle: f = TODO 2 + Σ fc in plane order, into F[s], T[s] through TODO 3
   and 4 (atomic sums), then drag;
 - ``update`` per body: explicit (TODO 5, 6, 7) or symplectic Euler from step s to s + 1;
@@ -81,17 +81,19 @@ def build(tape, units, scheme: str, materials: bool, num_planes: int, serial: bo
 
     @ti.func
     def reach(s, i):
-        # Per particle: near[s, i, j] = whether its sphere is within its radius of plane j (beyond,
-        # the law gives no force and a spring of zero, exactly: contacts skips the pair; the margin
-        # keeps rounding out of the choice); with materials, the planes it touches into count[s, b].
+        # Per particle: near[s, i, j] = whether its sphere is within its radius of plane j, and the
+        # pairs near listed in pairs[s] (beyond, the law gives no force and a spring of zero,
+        # exactly; the margin keeps rounding out of the choice); with materials, count[s, b].
         b = t.particle_body[i]
         x, R, _v, _w = body_motion(s, b)
         p = x + matvec(R, t.r0[i])
         touching = 0
         for j in ti.static(range(P)):
             plane = t.plane[j]
-            gap = plane[3] - ti.Vector([plane[0], plane[1], plane[2]]).dot(p)
-            t.near[s, i, j] = ti.select(gap < -2.0 * t.radius[b], 0, 1)
+            near = plane[3] - ti.Vector([plane[0], plane[1], plane[2]]).dot(p) >= -2.0 * t.radius[b]
+            t.near[s, i, j] = ti.select(near, 1, 0)
+            if near:
+                t.pairs[s, ti.atomic_add(t.pair_count[s], 1)] = i * P + j
             if ti.static(materials):
                 if plane[3] + t.radius[b] - ti.Vector([plane[0], plane[1], plane[2]]).dot(p) > 0:
                     touching += 1
@@ -99,35 +101,32 @@ def build(tape, units, scheme: str, materials: bool, num_planes: int, serial: bo
             t.count[s, b] += touching
 
     @ti.func
-    def contacts(s, i, j, dt):
-        # One (particle, plane) a thread: the plane's force on the particle's sphere, into fc[s]
-        # (a pair not near leaves it: its force is zero, and forces reads fc only where near says
-        # so), and its spring at s + 1 (zero for a pair not near).
-        if ti.static(materials):
-            if t.near[s, i, j] == 0:
-                t.slip[s + 1, i, j] = ti.Vector.zero(float, 3)
-        if t.near[s, i, j] != 0:
-            b = t.particle_body[i]
-            x, R, v, omega = body_motion(s, b)
-            r = matvec(R, t.r0[i])
-            p = x + r
-            pv = v + omega.cross(r)
-            g, k, radius, plane = t.g[None], t.k[None], t.radius[b], t.plane[j]
-            if ti.static(materials):  # rigid.engine.material_stages.block_forces
-                m_eff = t.M[b] / ti.max(t.count[s, b], 1)
-                normal = ti.Vector([plane[0], plane[1], plane[2]])
-                slip = t.slip[s, i, j]
-                c, memory = plane_damping(pair_restitution(t.e_b[b], t.e_p[j]), k, m_eff, dt, -g.dot(normal),
-                                          normal.dot(slip), normal.dot(pv), plane[3] + radius - normal.dot(p),
-                                          t.table, 0, t.c_world[None], True)
-                mu = pair_mu(t.mu_b[b], t.mu_p[j], t.mu_world[None])
-                fc, new_slip, touching = plane_force_sticking(p, pv, radius, plane, k, c,
-                                                              sticking_damping(k, m_eff, dt), mu, slip, dt)
-                t.fc[s, i, j] = fc
-                t.slip[s + 1, i, j] = new_slip + (memory * touching) * normal
-            else:  # rigid.engine.stages._block_loop
-                fc, _e = plane_force(p, pv, radius, plane, k, t.c_world[None], t.mu_world[None])
-                t.fc[s, i, j] = fc
+    def contacts(s, slot, dt):
+        # The pair near in slot ``slot`` of step s: the plane's force on the particle's sphere into
+        # fc[s], its spring at s + 1 (Tape.spring reads a spring as zero where the pair was not near).
+        pair = t.pairs[s, slot]
+        i, j = pair // P, pair % P
+        b = t.particle_body[i]
+        x, R, v, omega = body_motion(s, b)
+        r = matvec(R, t.r0[i])
+        p = x + r
+        pv = v + omega.cross(r)
+        g, k, radius, plane = t.g[None], t.k[None], t.radius[b], t.plane[j]
+        if ti.static(materials):  # rigid.engine.material_stages.block_forces
+            m_eff = t.M[b] / ti.max(t.count[s, b], 1)
+            normal = ti.Vector([plane[0], plane[1], plane[2]])
+            slip = t.spring(s, i, j)
+            c, memory = plane_damping(pair_restitution(t.e_b[b], t.e_p[j]), k, m_eff, dt, -g.dot(normal),
+                                      normal.dot(slip), normal.dot(pv), plane[3] + radius - normal.dot(p),
+                                      t.table, 0, t.c_world[None], True)
+            mu = pair_mu(t.mu_b[b], t.mu_p[j], t.mu_world[None])
+            fc, new_slip, touching = plane_force_sticking(p, pv, radius, plane, k, c,
+                                                          sticking_damping(k, m_eff, dt), mu, slip, dt)
+            t.fc[s, i, j] = fc
+            t.slip[s + 1, i, j] = new_slip + (memory * touching) * normal
+        else:  # rigid.engine.stages._block_loop
+            fc, _e = plane_force(p, pv, radius, plane, k, t.c_world[None], t.mu_world[None])
+            t.fc[s, i, j] = fc
 
     @ti.func
     def forces(s, i):
@@ -173,12 +172,13 @@ def build(tape, units, scheme: str, materials: bool, num_planes: int, serial: bo
         # its adjoint, which runs the loops' adjoints in reverse order). Each loop writes only step
         # s + 1 or the atomic sums of step s that a later loop reads, never what it read itself.
         # (Taichi's reverse mode takes a kernel of loops only: the stages are each loop's body.)
+        if ti.static(not _compiling_adjoint()):  # its outputs are integers: no adjoint
+            ti.loop_config(serialize=serial)
+            for i in range(n):
+                reach(s, i)
         ti.loop_config(serialize=serial)
-        for i in range(n):
-            reach(s, i)
-        ti.loop_config(serialize=serial)
-        for i, j in ti.ndrange(n, P):
-            contacts(s, i, j, dt)
+        for slot in range(t.pair_count[s]):
+            contacts(s, slot, dt)
         ti.loop_config(serialize=serial)
         for i in range(n):
             forces(s, i)
@@ -207,8 +207,8 @@ def build(tape, units, scheme: str, materials: bool, num_planes: int, serial: bo
                 if ti.static(not _compiling_adjoint()):
                     for i in range(n):
                         reach(s, i)
-                    for i, j in ti.ndrange(n, P):
-                        contacts(s, i, j, dt)
+                    for slot in range(t.pair_count[s]):
+                        contacts(s, slot, dt)
                     for i in range(n):
                         forces(s, i)
                     for b in range(nb):
@@ -221,8 +221,8 @@ def build(tape, units, scheme: str, materials: bool, num_planes: int, serial: bo
                         update(s, b, dt)
                     for i in range(n):
                         forces(s, i)
-                    for i, j in ti.ndrange(n, P):
-                        contacts(s, i, j, dt)
+                    for slot in range(t.pair_count[s]):
+                        contacts(s, slot, dt)
 
     @ti.kernel
     def rows(s: ti.i32, frame: ti.i32, nb: ti.i32):
@@ -233,7 +233,7 @@ def build(tape, units, scheme: str, materials: bool, num_planes: int, serial: bo
     @ti.kernel
     def clear(end: ti.i32, nb: ti.i32, n: ti.i32, mode: ti.i32):
         """Zero, over steps 0 .. end and the particles in use (not the whole tape): mode 0 the
-        atomic sums (F, T, count) before a run, 1 the adjoints before a segment's backward (per
+        atomic sums (F, T, count, pair_count) before a run, 1 the adjoints before a segment's backward (per
         body every step; the springs' at step 0 only, the one step whose adjoint no store
         consumes: each store's adjoint zeroes what it reads, Tape.clean), 2 I0 and the sticking
         springs of step 0 (a run's start)."""
@@ -241,7 +241,7 @@ def build(tape, units, scheme: str, materials: bool, num_planes: int, serial: bo
         ti.loop_config(serialize=serial)
         for s, b in ti.ndrange(end + 1, nb):
             if mode == 0:
-                t.F[s, b], t.T[s, b], t.count[s, b] = zero, zero, 0
+                t.F[s, b], t.T[s, b], t.count[s, b], t.pair_count[s] = zero, zero, 0, 0
             elif mode == 1:
                 t.F.grad[s, b], t.T.grad[s, b], t.x.grad[s, b], t.P.grad[s, b] = zero, zero, zero, zero
                 t.L.grad[s, b], t.w.grad[s, b], t.q.grad[s, b] = zero, zero, ti.Vector.zero(float, 4)
@@ -255,43 +255,7 @@ def build(tape, units, scheme: str, materials: bool, num_planes: int, serial: bo
                 elif mode == 2:
                     t.slip[0, i, j] = zero
 
-    @ti.kernel
-    def save(s: ti.i32, nb: ti.i32, n: ti.i32):
-        """Step s into the checkpoint fields (c_*)."""
-        for b in range(nb):
-            t.c_x[b], t.c_q[b], t.c_P[b], t.c_L[b], t.c_w[b] = t.x[s, b], t.q[s, b], t.P[s, b], t.L[s, b], t.w[s, b]
-        if ti.static(materials):
-            for i, j in ti.ndrange(n, P):
-                t.c_slip[i, j] = t.slip[s, i, j]
-
-    @ti.kernel
-    def restore(s: ti.i32, nb: ti.i32, n: ti.i32):
-        for b in range(nb):
-            t.x[s, b], t.q[s, b], t.P[s, b], t.L[s, b], t.w[s, b] = t.c_x[b], t.c_q[b], t.c_P[b], t.c_L[b], t.c_w[b]
-        if ti.static(materials):
-            for i, j in ti.ndrange(n, P):
-                t.slip[s, i, j] = t.c_slip[i, j]
-
-    @ti.kernel
-    def save_grad(s: ti.i32, nb: ti.i32, n: ti.i32):
-        """The adjoint of step s into the checkpoint fields (carried to the previous segment)."""
-        for b in range(nb):
-            t.c_x[b], t.c_q[b], t.c_P[b] = t.x.grad[s, b], t.q.grad[s, b], t.P.grad[s, b]
-            t.c_L[b], t.c_w[b] = t.L.grad[s, b], t.w.grad[s, b]
-        if ti.static(materials):
-            for i, j in ti.ndrange(n, P):
-                t.c_slip[i, j] = t.slip.grad[s, i, j]
-
-    @ti.kernel
-    def restore_grad(s: ti.i32, nb: ti.i32, n: ti.i32):
-        for b in range(nb):
-            t.x.grad[s, b], t.q.grad[s, b], t.P.grad[s, b] = t.c_x[b], t.c_q[b], t.c_P[b]
-            t.L.grad[s, b], t.w.grad[s, b] = t.c_L[b], t.c_w[b]
-        if ti.static(materials):
-            for i, j in ti.ndrange(n, P):
-                t.slip.grad[s, i, j] = t.c_slip[i, j]
-
     from types import SimpleNamespace
 
     return SimpleNamespace(inertia=inertia, invert=invert, init=init, clear=clear, substep=substep, advance=advance,
-                           rows=rows, save=save, restore=restore, save_grad=save_grad, restore_grad=restore_grad)
+                           rows=rows)

@@ -64,9 +64,9 @@ def _power_of_two(n: int, least: int) -> int:
 
 def step_bytes(bodies: int, particles: int, planes: int, materials: bool) -> int:
     """A tape's bytes a step: per body x, P, L, ω, F, τ, q and their adjoints, the count; per
-    (particle, plane) the contact force and (materials) the sticking spring, with adjoints, and
-    the near flag."""
-    return bodies * (2 * 22 * 8 + 4) + particles * planes * (3 * 8 * 2 * (2 if materials else 1) + 4)
+    (particle, plane) the contact force and (materials) the sticking spring, with adjoints, the
+    near flag and a slot of the pairs' list."""
+    return bodies * (2 * 22 * 8 + 4) + 4 + particles * planes * (3 * 8 * 2 * (2 if materials else 1) + 8)
 
 
 def segment_frames(frames: int, substeps: int, bodies: int, particles: int, planes: int, materials: bool) -> int:
@@ -160,7 +160,7 @@ class Pass:
         return self.rows()
 
     def _forward(self) -> None:
-        k, p = self.k, self.problem
+        t, k, p = self.tape, self.k, self.problem
         B, N = p.num_bodies, p.num_particles
         k.clear(0, B, N, 2)
         k.inertia(N)
@@ -169,10 +169,10 @@ class Pass:
         self.checkpoints = []
         for g in range(self.num_segments):
             if g > 0:
-                k.save(self._length(g - 1), B, N)
-                k.restore(0, B, N)
+                t.save(self._length(g - 1), B, N)
+                t.restore(0, B, N)
             if g < self.num_segments - 1:  # the backward re-runs every segment but the last
-                k.save(0, B, N)
+                t.save(0, B, N)
             self.checkpoints.append([f.to_numpy() for f in self._checkpoint_fields()]
                                     if g < self.num_segments - 1 else [])
             self._run_segment(g, True)
@@ -202,14 +202,14 @@ class Pass:
 
     def _adjoints(self) -> None:
         """The segments' adjoints from the last (each re-run first but the last), then the start's."""
-        k, p = self.k, self.problem
+        t, k, p = self.tape, self.k, self.problem
         B, N, dt = p.num_bodies, p.num_particles, p.dt
         for g in reversed(range(self.num_segments)):
             start = time.perf_counter()
             if g < self.num_segments - 1:  # the last segment is still on the tape
                 for field, value in zip(self._checkpoint_fields(), self.checkpoints[g]):
                     field.from_numpy(value)
-                k.restore(0, B, N)
+                t.restore(0, B, N)
                 self._run_segment(g, False)
             self.seconds["rerun"] += time.perf_counter() - start
             start = time.perf_counter()
@@ -218,7 +218,7 @@ class Pass:
             if g < self.num_segments - 1:
                 for field, value in zip(self._checkpoint_fields(), self._carried):
                     field.from_numpy(value)
-                k.restore_grad(end, B, N)
+                t.restore_grad(end, B, N)
             if self.serial and self.fused:
                 k.advance.grad(0, end, N, B, dt, g * self.segment, self.substeps, 1)
                 if g == 0:
@@ -231,7 +231,7 @@ class Pass:
                     if s > 0:
                         k.substep.grad(s - 1, N, B, dt)
             if g > 0:
-                k.save_grad(0, B, N)
+                t.save_grad(0, B, N)
                 self._carried = [f.to_numpy() for f in self._checkpoint_fields()]
             self.seconds["adjoint"] += time.perf_counter() - start
         k.init.grad(B)

@@ -14,6 +14,7 @@ backward (rigid.diff.passes), so memory is bounded by K, not by the horizon. Sha
   slip          [steps, N, P] vec3  each (particle, plane) sticking spring (materials' law only)
   count         [steps, B] i32    particles touching a plane before the forces (m_eff = M / n)
   near          [steps, N, P] i32 whether the particle's sphere is within its radius of the plane
+  pairs, pair_count  [steps, N P], [steps] i32  the pairs near, listed (i P + j), and their count
   rows          r_x, r_q, r_v, r_w, r_P, r_L  [frames + 1, B]  the rows rigid.Simulator.advance gives
 Parameters (all with gradients): per body m (particle mass), drag, e_b, mu_b, x0, q0, v0, w0;
 per plane e_p, mu_p; k, c_world (velocity_damping_stiffness), mu_world, g. Derived (with
@@ -45,6 +46,8 @@ class Tape:
         self.fc = vec(3, (steps, particles, planes))
         self.count = ti.field(ti.i32, shape=sb)
         self.near = ti.field(ti.i32, shape=(steps, particles, planes))
+        self.pairs = ti.field(ti.i32, shape=(steps, particles * planes))  # i P + j of the pairs near
+        self.pair_count = ti.field(ti.i32, shape=steps)
         scalar = lambda shape: ti.field(f, shape=shape, needs_grad=True)
         self.m, self.drag, self.e_b, self.mu_b, self.M = (scalar(bodies) for _ in range(5))
         self.x0, self.v0, self.w0 = (vec(3, bodies) for _ in range(3))
@@ -69,6 +72,62 @@ class Tape:
         self.c_x, self.c_P, self.c_L, self.c_w = (ti.Vector.field(3, f, shape=bodies) for _ in range(4))
         self.c_q = ti.Vector.field(4, f, shape=bodies)
         self.c_slip = ti.Vector.field(3, f, shape=(particles, planes) if materials else (1, 1))
+        self._build_checkpoints()
+
+    def _build_checkpoints(self) -> None:
+        """``spring`` (a func: the sticking spring contacts reads) and the kernels that move a
+        segment's first step to and from the checkpoint fields (c_*): save, restore, save_grad
+        (the adjoint carried to the previous segment), restore_grad."""
+        t, P, materials = self, self.planes, self.materials
+
+        @ti.func
+        def spring(s, i, j):
+            # Pair (i, j)'s spring at step s: contacts writes it at s - 1 only where the pair was
+            # near, and it is zero elsewhere; step 0's is a run's start (zero) or a checkpoint's.
+            slip = ti.Vector.zero(float, 3)
+            if s == 0:
+                slip = t.slip[s, i, j]
+            elif t.near[s - 1, i, j] != 0:
+                slip = t.slip[s, i, j]
+            return slip
+
+        @ti.kernel
+        def save(s: ti.i32, nb: ti.i32, n: ti.i32):
+            for b in range(nb):
+                t.c_x[b], t.c_q[b], t.c_P[b], t.c_L[b], t.c_w[b] = t.x[s, b], t.q[s, b], t.P[s, b], t.L[s, b], t.w[s, b]
+            if ti.static(materials):
+                for i, j in ti.ndrange(n, P):
+                    t.c_slip[i, j] = spring(s, i, j)
+
+        @ti.kernel
+        def restore(s: ti.i32, nb: ti.i32, n: ti.i32):
+            for b in range(nb):
+                t.x[s, b], t.q[s, b], t.P[s, b], t.L[s, b], t.w[s, b] = t.c_x[b], t.c_q[b], t.c_P[b], t.c_L[b], t.c_w[b]
+            if ti.static(materials):
+                for i, j in ti.ndrange(n, P):
+                    t.slip[s, i, j] = t.c_slip[i, j]
+
+        @ti.kernel
+        def save_grad(s: ti.i32, nb: ti.i32, n: ti.i32):
+            for b in range(nb):
+                t.c_x[b], t.c_q[b], t.c_P[b] = t.x.grad[s, b], t.q.grad[s, b], t.P.grad[s, b]
+                t.c_L[b], t.c_w[b] = t.L.grad[s, b], t.w.grad[s, b]
+            if ti.static(materials):
+                for i, j in ti.ndrange(n, P):
+                    t.c_slip[i, j] = t.slip.grad[s, i, j]
+
+        @ti.kernel
+        def restore_grad(s: ti.i32, nb: ti.i32, n: ti.i32):
+            for b in range(nb):
+                t.x.grad[s, b], t.q.grad[s, b], t.P.grad[s, b] = t.c_x[b], t.c_q[b], t.c_P[b]
+                t.L.grad[s, b], t.w.grad[s, b] = t.c_L[b], t.c_w[b]
+            if ti.static(materials):
+                for i, j in ti.ndrange(n, P):
+                    if t.near[s - 1, i, j] != 0:  # s > 0; a spring not near at s - 1 was zero: no adjoint
+                        t.slip.grad[s, i, j] = t.c_slip[i, j]
+
+        self.spring, self.save, self.restore, self.save_grad, self.restore_grad = \
+            spring, save, restore, save_grad, restore_grad
 
     PARAMETERS = ("m", "drag", "e_b", "mu_b", "x0", "q0", "v0", "w0", "e_p", "mu_p", "k", "c_world", "mu_world", "g")
     DERIVED = ("M", "I0", "I0inv")
