@@ -48,6 +48,15 @@ def cotangent(frames, final=(1.0, 1.0, 1.0), every_y=0.1):
 
 
 BOUNCE = dict(mesh="sphere.obj", scale=0.3, initial_velocity=(0.8, -1.0, 0.4), initial_angular_velocity=(0.0, 0.0, 2.0))
+# test_gradients computes this one in the suite's float32 process against this process's float64.
+FLOAT32_CASE = dict(scene=dict(mesh="sphere.obj", scale=0.3, initial_velocity=(0.8, -1.0, 0.4), restitution=0.6),
+                    frames=30, wrt=["initial_velocity", "restitution"])
+
+
+def float32_case_cotangent():
+    cot = np.zeros((FLOAT32_CASE["frames"] + 1, 1, 3))
+    cot[-1, 0, 1] = 1.0  # the final height
+    return {"x": cot}
 
 
 def repeat() -> dict:
@@ -173,6 +182,8 @@ def main() -> None:
         out[name] = dict(e=fitted.restitution, v0=list(fitted.initial_velocity), loss=info["loss"],
                          evaluations=info["evaluations"])
     out["repeat"] = repeat()
+    g = rigid.gradient(FLOAT32_CASE["scene"], FLOAT32_CASE["frames"], float32_case_cotangent(), FLOAT32_CASE["wrt"])
+    out["float32_reference"] = np.concatenate([np.ravel(g[n]) for n in FLOAT32_CASE["wrt"]]).tolist()
     seconds["total"] = time.perf_counter() - start
     out["seconds"] = seconds
     print(json.dumps(out))

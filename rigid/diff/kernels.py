@@ -91,7 +91,7 @@ def build(tape, units, scheme: str, materials: bool, num_planes: int, serial: bo
         for j in ti.static(range(P)):
             plane = t.plane[j]
             near = plane[3] - ti.Vector([plane[0], plane[1], plane[2]]).dot(p) >= -2.0 * t.radius[b]
-            t.near[s, i, j] = ti.select(near, 1, 0)
+            t.near[s, i, j] = ti.cast(near, ti.u8)
             if near:
                 t.pairs[s, ti.atomic_add(t.pair_count[s], 1)] = i * P + j
             if ti.static(materials):

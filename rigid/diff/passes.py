@@ -66,7 +66,7 @@ def step_bytes(bodies: int, particles: int, planes: int, materials: bool) -> int
     """A tape's bytes a step: per body x, P, L, ω, F, τ, q and their adjoints, the count; per
     (particle, plane) the contact force and (materials) the sticking spring, with adjoints, the
     near flag and a slot of the pairs' list."""
-    return bodies * (2 * 22 * 8 + 4) + 4 + particles * planes * (3 * 8 * 2 * (2 if materials else 1) + 8)
+    return bodies * (2 * 22 * 8 + 4) + 4 + particles * planes * (3 * 8 * 2 * (2 if materials else 1) + 1 + 4)
 
 
 def segment_frames(frames: int, substeps: int, bodies: int, particles: int, planes: int, materials: bool) -> int:

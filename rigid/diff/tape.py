@@ -13,7 +13,7 @@ backward (rigid.diff.passes), so memory is bounded by K, not by the horizon. Sha
   fc            [steps, N, P] vec3  each plane's force on each particle
   slip          [steps, N, P] vec3  each (particle, plane) sticking spring (materials' law only)
   count         [steps, B] i32    particles touching a plane before the forces (m_eff = M / n)
-  near          [steps, N, P] i32 whether the particle's sphere is within its radius of the plane
+  near          [steps, N, P] u8  whether the particle's sphere is within its radius of the plane
   pairs, pair_count  [steps, N P], [steps] i32  the pairs near, listed (i P + j), and their count
   rows          r_x, r_q, r_v, r_w, r_P, r_L  [frames + 1, B]  the rows rigid.Simulator.advance gives
 Parameters (all with gradients): per body m (particle mass), drag, e_b, mu_b, x0, q0, v0, w0;
@@ -45,7 +45,7 @@ class Tape:
         self.slip = vec(3, (steps, particles, planes) if materials else (1, 1, 1))
         self.fc = vec(3, (steps, particles, planes))
         self.count = ti.field(ti.i32, shape=sb)
-        self.near = ti.field(ti.i32, shape=(steps, particles, planes))
+        self.near = ti.field(ti.u8, shape=(steps, particles, planes))
         self.pairs = ti.field(ti.i32, shape=(steps, particles * planes))  # i P + j of the pairs near
         self.pair_count = ti.field(ti.i32, shape=steps)
         scalar = lambda shape: ti.field(f, shape=shape, needs_grad=True)
