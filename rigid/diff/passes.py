@@ -79,6 +79,10 @@ def segment_frames(frames: int, substeps: int, bodies: int, particles: int, plan
 
 
 class Pass:
+    """A scene's forward and backward passes. ``fused``: the backward runs ``advance``'s adjoint,
+    one launch a segment, where the loops are serial (False: one launch a substep, as for scenes of
+    many particles; the tests compare the two)."""
+
     def __init__(self, problem, units, frames: int, checkpoint_frames: int | None = None, fused: bool = True):
         self.problem, self.units, self.frames, self.fused = problem, units, frames, fused
         self.substeps = problem.substeps
