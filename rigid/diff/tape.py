@@ -10,8 +10,8 @@ backward (rigid.diff.passes), so memory is bounded by K, not by the horizon. Sha
   x, P, L, w    [steps, B] vec3   centre of mass (m), momenta (kg m/s, kg m²/s), ω (rad/s), world
   q             [steps, B] vec4   orientation, scalar first
   F, T          [steps, B] vec3   the substep's force and torque about x (atomic sums over particles)
-  fc            [steps, N, P] vec3  each plane's force on each particle
-  slip          [steps, N, P] vec3  each (particle, plane) sticking spring (materials' law only)
+  fc            [steps, N, P] vec3  each plane's force on each particle (written for the pairs near)
+  slip          [steps, N, P] vec3  each (particle, plane) sticking spring (materials' law only; see spring)
   count         [steps, B] i32    particles touching a plane before the forces (m_eff = M / n)
   near          [steps, N, P] u8  whether the particle's sphere is within its radius of the plane
   pairs, pair_count  [steps, N P], [steps] i32  the pairs near, listed (i P + j), and their count
