@@ -1,5 +1,6 @@
 """Cost of a gradient against its forward run, and the tape's memory (docs/gradients.md,
-report/gradients.md). Prints; asserts nothing.
+report/gradients.md); beside it, in the same interleaved runs, the gradient with the per-substep
+adjoint (one launch a substep, the schedule for scenes of many particles). Prints; asserts nothing.
 
     .venv/bin/python scripts/bench_gradients.py [--frames 120] [--checkpoint K] [--repeats 7] [--per-substep]
 """
@@ -9,6 +10,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+from taichi.lang.util import to_numpy_type
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
@@ -43,7 +45,8 @@ def tape_bytes(tape) -> int:
                 count = int(np.prod(f.shape)) * (getattr(f, "n", 1) * getattr(f, "m", 1))
             except Exception:
                 continue
-            total += count * 8 * (2 if getattr(f, "grad", None) is not None else 1)
+            size = np.dtype(to_numpy_type(f.dtype)).itemsize
+            total += count * size * (2 if getattr(f, "grad", None) is not None else 1)
     return total
 
 
@@ -60,10 +63,13 @@ def main():
     problem, _n, _f, units = prepare(SCENE, frames, ["restitution"])
     run = Pass(problem, units, frames, **({} if args.checkpoint is None else dict(checkpoint_frames=args.checkpoint)))
     run.serial = run.serial and not args.per_substep
+    apart = Pass(problem, units, frames, fused=False, **({} if args.checkpoint is None else
+                                                         dict(checkpoint_frames=args.checkpoint)))
+    apart.serial = run.serial
     cot = {"x": np.ones((frames + 1, 1, 3))}
-    engine, forward, gradient = median_times([lambda: rigid.Simulator(rigid.scene(**SCENE)).advance(frames),
-                                              run.forward, lambda: (run.forward(), run.backward(cot))],
-                                             args.repeats)
+    engine, forward, per_substep, gradient = median_times(
+        [lambda: rigid.Simulator(rigid.scene(**SCENE)).advance(frames), run.forward,
+         lambda: (apart.forward(), apart.backward(cot)), lambda: (run.forward(), run.backward(cot))], args.repeats)
     schedule = "one launch a substep" if not run.serial else "one launch a segment"
     print(f"{frames} frames ({frames * problem.substeps} substeps), 1 body of {problem.num_particles} particles, "
           f"{len(problem.planes)} planes, float64, {run.segment // problem.substeps} frames a segment "
@@ -72,6 +78,8 @@ def main():
     print(f"differentiable forward:                             {forward * 1e3:.1f} ms")
     print(f"gradient (forward + backward):                      {gradient * 1e3:.1f} ms "
           f"= {gradient / forward:.2f}x its forward, {gradient / engine:.2f}x the engine's")
+    print(f"gradient, the per-substep adjoint:                  {per_substep * 1e3:.1f} ms "
+          f"= {per_substep / forward:.2f}x its forward")
     print(f"  of the backward: re-runs {run.seconds['rerun'] * 1e3:.1f} ms, adjoints {run.seconds['adjoint'] * 1e3:.1f} ms"
           f" (last call)")
     print(f"tape memory (fields and their adjoints):            {tape_bytes(run.tape) / 2**20:.2f} MiB "

@@ -48,6 +48,45 @@ def cotangent(frames, final=(1.0, 1.0, 1.0), every_y=0.1):
 
 
 BOUNCE = dict(mesh="sphere.obj", scale=0.3, initial_velocity=(0.8, -1.0, 0.4), initial_angular_velocity=(0.0, 0.0, 2.0))
+# test_gradients computes this one in the suite's float32 process against this process's float64.
+FLOAT32_CASE = dict(scene=dict(mesh="sphere.obj", scale=0.3, initial_velocity=(0.8, -1.0, 0.4), restitution=0.6),
+                    frames=30, wrt=["initial_velocity", "restitution"])
+
+
+def float32_case_cotangent():
+    cot = np.zeros((FLOAT32_CASE["frames"] + 1, 1, 3))
+    cot[-1, 0, 1] = 1.0  # the final height
+    return {"x": cot}
+
+
+def repeat() -> dict:
+    """The gradient at A, then runs at other values B (gradients by the default, fused adjoint, and
+    one by the per-substep adjoint), then the gradient at A again; and at A in segments of 8 frames
+    (checkpoints, re-runs, carried adjoints), and the per-substep adjoint's, whole and in segments.
+    The adjoint kernels share one tape and one thread's native stack with every run between."""
+    from rigid.diff.gradient import gather, prepare
+    from rigid.diff.passes import Pass
+
+    frames, wrt = 30, ["restitution", "initial_velocity", "orientation", "position"]
+    scene = {**BOUNCE, "restitution": 0.4, "initial_velocity": (0.8, -0.94, 0.41)}
+    rng = np.random.default_rng(1)
+    cot = {"x": rng.normal(size=(frames + 1, 1, 3)), "q": rng.normal(size=(frames + 1, 1, 4))}
+    flat = lambda g: np.concatenate([np.ravel(g[n]) for n in wrt]).tolist()
+
+    def per_substep(keys, **options):
+        problem, names, _frames, units = prepare(keys, frames, wrt)
+        run = Pass(problem, units, frames, **{"fused": False, **options})
+        run.forward()
+        return flat(gather(problem, run.backward(cot), names))
+
+    first = flat(rigid.gradient(scene, frames, cot, wrt))
+    for e in (0.55, 0.7, 0.3):
+        rigid.gradient({**scene, "restitution": e, "initial_velocity": (0.9, -1.1, 0.3)}, frames, cot, wrt)
+    per_substep({**scene, "restitution": 0.62})
+    again = flat(rigid.gradient(scene, frames, cot, wrt))
+    segments = flat(rigid.gradient(scene, frames, cot, wrt, checkpoint_frames=8))  # 4 segments, re-run
+    return dict(first=first, again=again, segments=segments, per_substep=per_substep(scene),
+                per_substep_segments=per_substep(scene, checkpoint_frames=8))
 
 
 def main() -> None:
@@ -89,7 +128,9 @@ def main() -> None:
     cot = cotangent(frames, final=(1.0, 0.0, 0.0), every_y=0.0)
     scene = {**box, "friction": 0.3}
     g = rigid.gradient(scene, frames, cot, ["friction"])
-    out["sliding"] = dict(mu=float(g["friction"]), fd_mu=central(scene, frames, cot, "friction"))
+    segments = rigid.gradient(scene, frames, cot, ["friction"], checkpoint_frames=3)  # springs carried across
+    out["sliding"] = dict(mu=float(g["friction"]), fd_mu=central(scene, frames, cot, "friction"),
+                          mu_segments=float(segments["friction"]))
     scene = {**box, "initial_velocity": (0.0, 0.0, 0.0), "collision_stiffness": 1e4}
     cot = cotangent(frames, final=(0.0, 1.0, 0.0), every_y=0.0)
     g = rigid.gradient(scene, frames, cot, ["collision_stiffness"])
@@ -140,6 +181,9 @@ def main() -> None:
         seconds[name] = time.perf_counter() - start
         out[name] = dict(e=fitted.restitution, v0=list(fitted.initial_velocity), loss=info["loss"],
                          evaluations=info["evaluations"])
+    out["repeat"] = repeat()
+    g = rigid.gradient(FLOAT32_CASE["scene"], FLOAT32_CASE["frames"], float32_case_cotangent(), FLOAT32_CASE["wrt"])
+    out["float32_reference"] = np.concatenate([np.ravel(g[n]) for n in FLOAT32_CASE["wrt"]]).tolist()
     seconds["total"] = time.perf_counter() - start
     out["seconds"] = seconds
     print(json.dumps(out))

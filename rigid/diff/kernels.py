@@ -6,20 +6,23 @@ rigid.engine.materials.plane_damping when the scene sets materials), drag as
 rigid.engine.forces.particle_force, the updates of rigid.engine.schemes written on the
 step axis. What differs is only the schedule, so that Taichi can run each kernel backward:
 
-- ``count``  particles touching a plane at step s, per body (the m_eff = M / n of materials.py);
-- ``contacts`` per (particle, plane): the plane's force fc[s] and the sticking spring's step s + 1;
+- ``reach``  per particle: the planes within its radius at step s (near, and the pairs near listed),
+  with materials the particles touching a plane, per body (count: the m_eff = M / n);
+- ``contacts`` per pair near: the plane's force fc[s] and the sticking spring's step s + 1 (the
+  other pairs' are zero, and neither written nor read);
 - ``forces`` per particle: f = TODO 2 + Σ fc in plane order, into F[s], T[s] through TODO 3
   and 4 (atomic sums), then drag;
 - ``update`` per body: explicit (TODO 5, 6, 7) or symplectic Euler from step s to s + 1;
 - ``rows``   the row of step s (x, q, v = P/M, ω, P, L) at frame f.
-``substep`` runs the four stages of one substep (its adjoint is the backward's); ``advance`` runs
-a segment's substeps and rows in one launch (the forward only).
+``substep`` runs the four stages of one substep; ``advance`` runs a segment's substeps and rows
+in one launch, and its adjoint is the backward's (``substep``'s where the loops run in parallel).
 A contact is a thread of its own (the materials' damper is a table lookup whose adjoint is
 long: unrolled over the planes in one particle's thread it took over a minute to compile), and
-the per-particle sum over planes is unrolled (their count is a compile-time constant), so no
-running sum lives in a dynamic loop (Taichi would need an adstack for it). The engine skips planes
-out of a block's reach; a skipped plane's force is exactly zero, so summing every plane gives
-the same force.
+the per-particle sum over planes is unrolled (their count is a compile-time constant). Inside
+``advance`` every stage is a loop below the top, so its mutable locals (that sum among them: the
+planes' count + 2 values) live on Taichi's ad-stacks, which rigid.diff.passes.compile_options
+sizes. The engine skips planes out of a block's reach; a skipped plane's force is exactly zero,
+so summing every plane gives the same force.
 """
 
 import taichi as ti
@@ -28,6 +31,14 @@ from ..engine.contact import plane_force, plane_force_sticking
 from ..engine.materials import pair_mu, pair_restitution, plane_damping, sticking_damping
 from ..engine.matvec import matvec
 from ..engine.rotation import quaternion_to_matrix
+
+
+def _compiling_adjoint() -> bool:
+    """Whether Taichi is now compiling a kernel's adjoint (read at compile time, in ti.static)."""
+    from taichi.lang import impl
+    from taichi.lang.enums import AutodiffMode
+
+    return impl.get_runtime().current_kernel.autodiff_mode == AutodiffMode.REVERSE
 
 
 def build(tape, units, scheme: str, materials: bool, num_planes: int, serial: bool = True):
@@ -44,12 +55,14 @@ def build(tape, units, scheme: str, materials: bool, num_planes: int, serial: bo
 
     @ti.kernel
     def inertia(n: ti.i32):
+        ti.loop_config(serialize=serial)
         for i in range(n):
             b = t.particle_body[i]
             t.I0[b] += u.particle_inertia(t.m[b], t.r0[i])
 
     @ti.kernel
     def invert(nb: ti.i32):
+        ti.loop_config(serialize=serial)
         for b in range(nb):
             t.I0inv[b] = t.I0[b].inverse()
             t.M[b] = t.m[b] * t.body_count[b]
@@ -57,6 +70,7 @@ def build(tape, units, scheme: str, materials: bool, num_planes: int, serial: bo
     @ti.kernel
     def init(nb: ti.i32):
         # rigid.engine.schemes.init_body and store: L = R I0 Rᵀ ω, P = M v, ω from TODO 7.
+        ti.loop_config(serialize=serial)
         for b in range(nb):
             q = t.q0[b]
             R = quaternion_to_matrix(q)
@@ -66,20 +80,32 @@ def build(tape, units, scheme: str, materials: bool, num_planes: int, serial: bo
             t.L[0, b], t.w[0, b] = L_same, omega
 
     @ti.func
-    def count(s, i):
+    def reach(s, i):
+        # Per particle: near[s, i, j] = whether its sphere is within its radius of plane j, and the
+        # pairs near listed in pairs[s] (beyond, the law gives no force and a spring of zero,
+        # exactly; the margin keeps rounding out of the choice); with materials, count[s, b].
         b = t.particle_body[i]
         x, R, _v, _w = body_motion(s, b)
         p = x + matvec(R, t.r0[i])
         touching = 0
         for j in ti.static(range(P)):
             plane = t.plane[j]
-            if plane[3] + t.radius[b] - ti.Vector([plane[0], plane[1], plane[2]]).dot(p) > 0:
-                touching += 1
-        t.count[s, b] += touching
+            near = plane[3] - ti.Vector([plane[0], plane[1], plane[2]]).dot(p) >= -2.0 * t.radius[b]
+            t.near[s, i, j] = ti.cast(near, ti.u8)
+            if near:
+                t.pairs[s, ti.atomic_add(t.pair_count[s], 1)] = i * P + j
+            if ti.static(materials):
+                if plane[3] + t.radius[b] - ti.Vector([plane[0], plane[1], plane[2]]).dot(p) > 0:
+                    touching += 1
+        if ti.static(materials):
+            t.count[s, b] += touching
 
     @ti.func
-    def contacts(s, i, j, dt):
-        # One (particle, plane) a thread: the plane's force on the particle's sphere, into fc[s].
+    def contacts(s, slot, dt):
+        # The pair near in slot ``slot`` of step s: the plane's force on the particle's sphere into
+        # fc[s], its spring at s + 1 (Tape.spring reads a spring as zero where the pair was not near).
+        pair = t.pairs[s, slot]
+        i, j = pair // P, pair % P
         b = t.particle_body[i]
         x, R, v, omega = body_motion(s, b)
         r = matvec(R, t.r0[i])
@@ -89,7 +115,7 @@ def build(tape, units, scheme: str, materials: bool, num_planes: int, serial: bo
         if ti.static(materials):  # rigid.engine.material_stages.block_forces
             m_eff = t.M[b] / ti.max(t.count[s, b], 1)
             normal = ti.Vector([plane[0], plane[1], plane[2]])
-            slip = t.slip[s, i, j]
+            slip = t.spring(s, i, j)
             c, memory = plane_damping(pair_restitution(t.e_b[b], t.e_p[j]), k, m_eff, dt, -g.dot(normal),
                                       normal.dot(slip), normal.dot(pv), plane[3] + radius - normal.dot(p),
                                       t.table, 0, t.c_world[None], True)
@@ -112,7 +138,8 @@ def build(tape, units, scheme: str, materials: bool, num_planes: int, serial: bo
         p = x + r
         f = u.gravity_force(t.m[b], t.g[None])
         for j in ti.static(range(P)):
-            f += t.fc[s, i, j]
+            if t.near[s, i, j] != 0:
+                f += t.fc[s, i, j]
         t.F[s, b] += u.total_force_term(f)
         t.T[s, b] += u.torque_term(p, x, R, r0, f)
         drag = -t.drag[b] * (v + omega.cross(r))  # rigid.engine.forces.particle_force, summed apart as add_external does
@@ -145,13 +172,13 @@ def build(tape, units, scheme: str, materials: bool, num_planes: int, serial: bo
         # its adjoint, which runs the loops' adjoints in reverse order). Each loop writes only step
         # s + 1 or the atomic sums of step s that a later loop reads, never what it read itself.
         # (Taichi's reverse mode takes a kernel of loops only: the stages are each loop's body.)
-        if ti.static(materials):
+        if ti.static(not _compiling_adjoint()):  # its outputs are integers: no adjoint
             ti.loop_config(serialize=serial)
             for i in range(n):
-                count(s, i)
+                reach(s, i)
         ti.loop_config(serialize=serial)
-        for i, j in ti.ndrange(n, P):
-            contacts(s, i, j, dt)
+        for slot in range(t.pair_count[s]):
+            contacts(s, slot, dt)
         ti.loop_config(serialize=serial)
         for i in range(n):
             forces(s, i)
@@ -167,92 +194,68 @@ def build(tape, units, scheme: str, materials: bool, num_planes: int, serial: bo
     @ti.kernel
     def advance(s0: ti.i32, s1: ti.i32, n: ti.i32, nb: ti.i32, dt: float, first: ti.i32, substeps: ti.i32,
                 write_rows: ti.i32):
-        # Substeps s0 .. s1 - 1 in one launch (the forward only): a serial loop over the time index
-        # whose body runs the four stages as inner loops in substep's order, then the row of step
-        # s + 1 where it ends a frame (``first``: the run's step at local step 0). Its rows and
-        # tape equal substep's bit for bit; the backward runs substep's adjoint (rigid.diff.passes).
+        # Substeps s0 .. s1 - 1 in one launch: a serial loop over the time index whose body runs
+        # the four stages as inner loops, then the row of step s + 1 where it ends a frame
+        # (``first``: the run's step at local step 0). Its rows and tape equal substep's bit for
+        # bit. Taichi 1.7's reverse mode turns a loop around only below the top level (hence the
+        # one-pass outer loop) and keeps sibling loops in their written order, so the adjoint is
+        # compiled from the stages written last to first (reach, whose adjoint is nothing, is
+        # left out of it).
         ti.loop_config(serialize=True)
-        for s in range(s0, s1):
-            if ti.static(materials):
-                for i in range(n):
-                    count(s, i)
-            for i, j in ti.ndrange(n, P):
-                contacts(s, i, j, dt)
-            for i in range(n):
-                forces(s, i)
-            for b in range(nb):
-                update(s, b, dt)
-            if write_rows != 0 and (first + s + 1) % substeps == 0:
-                for b in range(nb):
-                    row(s + 1, (first + s + 1) // substeps, b)
+        for _once in range(1):
+            for s in range(s0, s1):
+                if ti.static(not _compiling_adjoint()):
+                    for i in range(n):
+                        reach(s, i)
+                    for slot in range(t.pair_count[s]):
+                        contacts(s, slot, dt)
+                    for i in range(n):
+                        forces(s, i)
+                    for b in range(nb):
+                        update(s, b, dt)
+                if write_rows != 0 and (first + s + 1) % substeps == 0:
+                    for b in range(nb):
+                        row(s + 1, (first + s + 1) // substeps, b)
+                if ti.static(_compiling_adjoint()):
+                    for b in range(nb):
+                        update(s, b, dt)
+                    for i in range(n):
+                        forces(s, i)
+                    for slot in range(t.pair_count[s]):
+                        contacts(s, slot, dt)
 
     @ti.kernel
     def rows(s: ti.i32, frame: ti.i32, nb: ti.i32):
+        ti.loop_config(serialize=serial)
         for b in range(nb):
             row(s, frame, b)
 
     @ti.kernel
     def clear(end: ti.i32, nb: ti.i32, n: ti.i32, mode: ti.i32):
         """Zero, over steps 0 .. end and the particles in use (not the whole tape): mode 0 the
-        atomic sums (F, T, count) before a run, 1 every adjoint before a backward, 2 the sticking
+        atomic sums (F, T, count, pair_count) before a run, 1 the adjoints before a segment's backward (per
+        body every step; the springs' at step 0 only, the one step whose adjoint no store
+        consumes: each store's adjoint zeroes what it reads, Tape.clean), 2 I0 and the sticking
         springs of step 0 (a run's start)."""
         zero = ti.Vector.zero(float, 3)
+        ti.loop_config(serialize=serial)
         for s, b in ti.ndrange(end + 1, nb):
             if mode == 0:
-                t.F[s, b], t.T[s, b], t.count[s, b] = zero, zero, 0
+                t.F[s, b], t.T[s, b], t.count[s, b], t.pair_count[s] = zero, zero, 0, 0
             elif mode == 1:
                 t.F.grad[s, b], t.T.grad[s, b], t.x.grad[s, b], t.P.grad[s, b] = zero, zero, zero, zero
                 t.L.grad[s, b], t.w.grad[s, b], t.q.grad[s, b] = zero, zero, ti.Vector.zero(float, 4)
-        for s, i, j in ti.ndrange(end + 1, n, P):
-            if mode == 1:
-                t.fc.grad[s, i, j] = zero
-                if ti.static(materials):
-                    t.slip.grad[s, i, j] = zero
-            elif ti.static(materials):
-                if mode == 2 and s == 0:
-                    t.slip[s, i, j] = zero
-
-    @ti.kernel
-    def save(s: ti.i32, nb: ti.i32, n: ti.i32):
-        """Step s into the checkpoint fields (c_*)."""
-        for b in range(nb):
-            t.c_x[b], t.c_q[b], t.c_P[b], t.c_L[b], t.c_w[b] = t.x[s, b], t.q[s, b], t.P[s, b], t.L[s, b], t.w[s, b]
+            elif mode == 2:
+                t.I0[b] = ti.Matrix.zero(float, 3, 3)
         if ti.static(materials):
+            ti.loop_config(serialize=serial)
             for i, j in ti.ndrange(n, P):
-                t.c_slip[i, j] = t.slip[s, i, j]
+                if mode == 1:
+                    t.slip.grad[0, i, j] = zero
+                elif mode == 2:
+                    t.slip[0, i, j] = zero
 
-    @ti.kernel
-    def restore(s: ti.i32, nb: ti.i32, n: ti.i32):
-        for b in range(nb):
-            t.x[s, b], t.q[s, b], t.P[s, b], t.L[s, b], t.w[s, b] = t.c_x[b], t.c_q[b], t.c_P[b], t.c_L[b], t.c_w[b]
-        if ti.static(materials):
-            for i, j in ti.ndrange(n, P):
-                t.slip[s, i, j] = t.c_slip[i, j]
+    from types import SimpleNamespace
 
-    @ti.kernel
-    def save_grad(s: ti.i32, nb: ti.i32, n: ti.i32):
-        """The adjoint of step s into the checkpoint fields (carried to the previous segment)."""
-        for b in range(nb):
-            t.c_x[b], t.c_q[b], t.c_P[b] = t.x.grad[s, b], t.q.grad[s, b], t.P.grad[s, b]
-            t.c_L[b], t.c_w[b] = t.L.grad[s, b], t.w.grad[s, b]
-        if ti.static(materials):
-            for i, j in ti.ndrange(n, P):
-                t.c_slip[i, j] = t.slip.grad[s, i, j]
-
-    @ti.kernel
-    def restore_grad(s: ti.i32, nb: ti.i32, n: ti.i32):
-        for b in range(nb):
-            t.x.grad[s, b], t.q.grad[s, b], t.P.grad[s, b] = t.c_x[b], t.c_q[b], t.c_P[b]
-            t.L.grad[s, b], t.w.grad[s, b] = t.c_L[b], t.c_w[b]
-        if ti.static(materials):
-            for i, j in ti.ndrange(n, P):
-                t.slip.grad[s, i, j] = t.c_slip[i, j]
-
-    class Kernels:
-        pass
-
-    k = Kernels()
-    for name, fn in dict(inertia=inertia, invert=invert, init=init, clear=clear, substep=substep, advance=advance, rows=rows, save=save, restore=restore, save_grad=save_grad,
-                         restore_grad=restore_grad).items():
-        setattr(k, name, fn)
-    return k
+    return SimpleNamespace(inertia=inertia, invert=invert, init=init, clear=clear, substep=substep, advance=advance,
+                           rows=rows)

@@ -5,14 +5,15 @@ the whole run where its tape fits TAPE_BYTES, ``segment_frames``). The forward p
 segment in one launch (``advance``) and keeps each segment's starting state (a checkpoint: one
 step of state, on the host) and the rows; the backward pass walks the segments from the last: it
 restores the segment's checkpoint, runs the segment forward again (the last one is still on the
-tape), then runs the adjoints (Taichi's ``kernel.grad``) of the rows and substeps in reverse
-order, one launch a substep, and carries the adjoint of the segment's first state into the
-previous one. Memory is one segment of state (rigid.diff.tape) whatever the horizon; the cost is
+tape), then runs its adjoint (Taichi's ``kernel.grad``: ``advance``'s, one launch a segment, or
+for scenes of many particles the rows' and substeps' in reverse order, one launch a substep) and
+carries the adjoint of the segment's first state into the previous one. Memory is one segment of state (rigid.diff.tape) whatever the horizon; the cost is
 one more forward run of every segment but the last (none when the run is one segment).
 """
 from __future__ import annotations
 
 import time
+from contextlib import contextmanager
 
 import numpy as np
 
@@ -24,7 +25,37 @@ TAPE_BYTES = 256 * 2**20  # the tape's budget (state, forces and their adjoints)
 FRAMES_AT_LEAST = 64  # a tape holds at least this many frames (fewer where the budget says so)
 SERIAL_PARTICLES = 512  # up to this many (padded) particles a substep's loops run on one thread
 PLANES_AT_LEAST = 5  # the box's floor and four walls
+AD_STACK_SPARE = 32  # ad-stack entries the kernels are compiled with, beyond the planes' count
 _TAPES: dict = {}
+
+
+@contextmanager
+def compile_options(**options):
+    """Kernels first launched inside compile with these Taichi CompileConfig ``options``; the
+    process's own are restored after (rigid.runtime's serve the engine). The pass uses two:
+
+    - ``cfg_optimization=True``: Taichi's store-to-load forwarding and dead-store passes, which the
+      engine goes without for its compile time, make the fused adjoint about 3x faster and the
+      forward 1.3x for a few seconds more of its first compile.
+    - ``ad_stack_size`` (AD_STACK_SPARE + the planes' count). A mutable local in a loop of a
+      reverse-mode kernel lives on an ad-stack; Taichi 1.7 sizes each to the most values it holds
+      (``ad_stack_size = 0``), but allocates its header as 4 bytes where the runtime uses 8, so a
+      full stack's top adjoint overhangs its allocation by 4 bytes into the neighbouring local:
+      silent, and dependent on what earlier kernels left on the native stack (``advance``'s adjoint
+      drifted after other kernels ran). With more entries than any local takes in one iteration
+      of a stage, no stack is ever full: the force sum over the planes takes the planes' count + 2
+      values, the other locals (the repository's TODO units included) at most 5."""
+    from taichi.lang import impl
+
+    config = impl.current_cfg()
+    before = {name: getattr(config, name) for name in options}
+    for name, value in options.items():
+        setattr(config, name, value)
+    try:
+        yield
+    finally:
+        for name, value in before.items():
+            setattr(config, name, value)
 
 
 def _power_of_two(n: int, least: int) -> int:
@@ -33,8 +64,9 @@ def _power_of_two(n: int, least: int) -> int:
 
 def step_bytes(bodies: int, particles: int, planes: int, materials: bool) -> int:
     """A tape's bytes a step: per body x, P, L, ω, F, τ, q and their adjoints, the count; per
-    (particle, plane) the contact force and (materials) the sticking spring, with adjoints."""
-    return bodies * (2 * 22 * 8 + 4) + particles * planes * 3 * 8 * 2 * (2 if materials else 1)
+    (particle, plane) the contact force and (materials) the sticking spring, with adjoints, the
+    near flag and a slot of the pairs' list."""
+    return bodies * (2 * 22 * 8 + 4) + 4 + particles * planes * (3 * 8 * 2 * (2 if materials else 1) + 1 + 4)
 
 
 def segment_frames(frames: int, substeps: int, bodies: int, particles: int, planes: int, materials: bool) -> int:
@@ -47,8 +79,12 @@ def segment_frames(frames: int, substeps: int, bodies: int, particles: int, plan
 
 
 class Pass:
-    def __init__(self, problem, units, frames: int, checkpoint_frames: int | None = None):
-        self.problem, self.units, self.frames = problem, units, frames
+    """A scene's forward and backward passes. ``fused``: the backward runs ``advance``'s adjoint,
+    one launch a segment, where the loops are serial (False: one launch a substep, as for scenes of
+    many particles; the tests compare the two)."""
+
+    def __init__(self, problem, units, frames: int, checkpoint_frames: int | None = None, fused: bool = True):
+        self.problem, self.units, self.frames, self.fused = problem, units, frames, fused
         self.substeps = problem.substeps
         B, N = problem.num_bodies, problem.num_particles
         # Fields sized up (particles and frames to powers of two, at least the box's 5 planes: the
@@ -70,6 +106,7 @@ class Pass:
             _TAPES[key] = (tape, kernel_module.build(tape, units, problem.scheme, problem.materials, P, serial))
         self.tape, self.k = _TAPES[key]
         self.serial = key[6] <= SERIAL_PARTICLES
+        self.options = dict(cfg_optimization=True, ad_stack_size=AD_STACK_SPARE + P)  # compile_options
         self.tape.load(problem)
         self.checkpoints: list = []
         self.seconds = dict(rerun=0.0, adjoint=0.0)  # of the last backward
@@ -122,9 +159,13 @@ class Pass:
 
     def forward(self) -> dict:
         """Run the scene; returns the rows (as rigid.Simulator.advance, float64)."""
+        with compile_options(**self.options):
+            self._forward()
+        return self.rows()
+
+    def _forward(self) -> None:
         t, k, p = self.tape, self.k, self.problem
         B, N = p.num_bodies, p.num_particles
-        t.I0.fill(0)
         k.clear(0, B, N, 2)
         k.inertia(N)
         k.invert(B)
@@ -132,39 +173,47 @@ class Pass:
         self.checkpoints = []
         for g in range(self.num_segments):
             if g > 0:
-                k.save(self._length(g - 1), B, N)
-                k.restore(0, B, N)
-            k.save(0, B, N)
-            self.checkpoints.append([f.to_numpy() for f in self._checkpoint_fields()])
+                t.save(self._length(g - 1), B, N)
+                t.restore(0, B, N)
+            if g < self.num_segments - 1:  # the backward re-runs every segment but the last
+                t.save(0, B, N)
+            self.checkpoints.append([f.to_numpy() for f in self._checkpoint_fields()]
+                                    if g < self.num_segments - 1 else [])
             self._run_segment(g, True)
-        return self.rows()
 
     def _checkpoint_fields(self):
         t = self.tape
         return (t.c_x, t.c_q, t.c_P, t.c_L, t.c_w, t.c_slip)
 
     def rows(self) -> dict:
-        B = self.problem.num_bodies
-        return {key: f.to_numpy()[:self.frames + 1, :B].astype(np.float64) for key, f in self.tape.row_fields().items()}
+        return self.tape.rows(self.frames, self.problem.num_bodies)
 
     def backward(self, cotangents: dict) -> dict:
         """The adjoint of the last forward run for ∂L/∂rows = ``cotangents``: ∂L/∂ each parameter
         field (rigid.diff.tape.Tape.PARAMETERS), as float64 numpy."""
+        t = self.tape
+        self.seconds = dict(rerun=0.0, adjoint=0.0)
+        with compile_options(**self.options):
+            if not t.clean:  # a backward stopped half-way: its adjoints may be anywhere
+                for f in (t.fc, t.slip, *t.row_fields().values()):
+                    f.grad.fill(0)
+            t.clean = False
+            t.clear_parameter_grads()
+            t.seed(cotangents, self.frames, self.problem.num_bodies)
+            self._adjoints()
+            t.clean = True
+        return t.parameter_grads()
+
+    def _adjoints(self) -> None:
+        """The segments' adjoints from the last (each re-run first but the last), then the start's."""
         t, k, p = self.tape, self.k, self.problem
         B, N, dt = p.num_bodies, p.num_particles, p.dt
-        t.clear_parameter_grads()
-        for key, f in t.row_fields().items():
-            seed = np.zeros(f.shape + (f.n,))
-            if key in cotangents:
-                seed[:self.frames + 1, :B] = cotangents[key]
-            f.grad.from_numpy(seed)
-        self.seconds = dict(rerun=0.0, adjoint=0.0)
         for g in reversed(range(self.num_segments)):
             start = time.perf_counter()
             if g < self.num_segments - 1:  # the last segment is still on the tape
                 for field, value in zip(self._checkpoint_fields(), self.checkpoints[g]):
                     field.from_numpy(value)
-                k.restore(0, B, N)
+                t.restore(0, B, N)
                 self._run_segment(g, False)
             self.seconds["rerun"] += time.perf_counter() - start
             start = time.perf_counter()
@@ -173,20 +222,22 @@ class Pass:
             if g < self.num_segments - 1:
                 for field, value in zip(self._checkpoint_fields(), self._carried):
                     field.from_numpy(value)
-                k.restore_grad(end, B, N)
-            # The adjoint a substep a launch: ``advance``'s own adjoint (one launch a segment) matched
-            # this to 1e-15 on a fresh tape but drifted by up to 1 % after runs at other values
-            # (Taichi 1.7), so the forward alone is fused.
-            for s in range(end, -1, -1):
-                frame = self._frame_at(g, s)
-                if frame is not None and (s > 0 or g == 0):
-                    k.rows.grad(s, frame, B)
-                if s > 0:
-                    k.substep.grad(s - 1, N, B, dt)
-            k.save_grad(0, B, N)
-            self._carried = [f.to_numpy() for f in self._checkpoint_fields()]
+                t.restore_grad(end, B, N)
+            if self.serial and self.fused:
+                k.advance.grad(0, end, N, B, dt, g * self.segment, self.substeps, 1)
+                if g == 0:
+                    k.rows.grad(0, 0, B)
+            else:
+                for s in range(end, -1, -1):
+                    frame = self._frame_at(g, s)
+                    if frame is not None and (s > 0 or g == 0):
+                        k.rows.grad(s, frame, B)
+                    if s > 0:
+                        k.substep.grad(s - 1, N, B, dt)
+            if g > 0:
+                t.save_grad(0, B, N)
+                self._carried = [f.to_numpy() for f in self._checkpoint_fields()]
             self.seconds["adjoint"] += time.perf_counter() - start
         k.init.grad(B)
         k.invert.grad(B)
         k.inertia.grad(N)
-        return {name: np.array(getattr(t, name).grad.to_numpy(), np.float64) for name in t.PARAMETERS}

@@ -10,19 +10,22 @@ backward (rigid.diff.passes), so memory is bounded by K, not by the horizon. Sha
   x, P, L, w    [steps, B] vec3   centre of mass (m), momenta (kg m/s, kg m²/s), ω (rad/s), world
   q             [steps, B] vec4   orientation, scalar first
   F, T          [steps, B] vec3   the substep's force and torque about x (atomic sums over particles)
-  fc            [steps, N, P] vec3  each plane's force on each particle
-  slip          [steps, N, P] vec3  each (particle, plane) sticking spring (materials' law only)
+  fc            [steps, N, P] vec3  each plane's force on each particle (written for the pairs near)
+  slip          [steps, N, P] vec3  each (particle, plane) sticking spring (materials' law only; see spring)
   count         [steps, B] i32    particles touching a plane before the forces (m_eff = M / n)
+  near          [steps, N, P] u8  whether the particle's sphere is within its radius of the plane
+  pairs, pair_count  [steps, N P], [steps] i32  the pairs near, listed (i P + j), and their count
   rows          r_x, r_q, r_v, r_w, r_P, r_L  [frames + 1, B]  the rows rigid.Simulator.advance gives
 Parameters (all with gradients): per body m (particle mass), drag, e_b, mu_b, x0, q0, v0, w0;
 per plane e_p, mu_p; k, c_world (velocity_damping_stiffness), mu_world, g. Derived (with
 gradients): M = m n, I0 = Σ TODO 1, I0inv.
 """
-from __future__ import annotations
 
+import numpy as np
 import taichi as ti
 
 STATE = ("x", "q", "P", "L", "w")
+ROW_COLUMNS = dict(x=(0, 3), q=(3, 7), v=(7, 10), omega=(10, 13), P=(13, 16), L=(16, 19))  # Tape.seed
 
 
 class Tape:
@@ -30,6 +33,9 @@ class Tape:
                  materials: bool):
         self.steps, self.bodies, self.particles, self.planes = steps, bodies, particles, planes
         self.frames, self.materials = frames, materials
+        # The adjoints of what a kernel stores (fc, slip past step 0, the rows) are zero after a
+        # whole backward: each store's adjoint consumes what it reads (rigid.diff.passes).
+        self.clean = True
         f = ti.lang.impl.current_cfg().default_fp
         self.float = f
         vec = lambda n, shape: ti.Vector.field(n, f, shape=shape, needs_grad=True)
@@ -39,6 +45,9 @@ class Tape:
         self.slip = vec(3, (steps, particles, planes) if materials else (1, 1, 1))
         self.fc = vec(3, (steps, particles, planes))
         self.count = ti.field(ti.i32, shape=sb)
+        self.near = ti.field(ti.u8, shape=(steps, particles, planes))
+        self.pairs = ti.field(ti.i32, shape=(steps, particles * planes))  # i P + j of the pairs near
+        self.pair_count = ti.field(ti.i32, shape=steps)
         scalar = lambda shape: ti.field(f, shape=shape, needs_grad=True)
         self.m, self.drag, self.e_b, self.mu_b, self.M = (scalar(bodies) for _ in range(5))
         self.x0, self.v0, self.w0 = (vec(3, bodies) for _ in range(3))
@@ -63,6 +72,62 @@ class Tape:
         self.c_x, self.c_P, self.c_L, self.c_w = (ti.Vector.field(3, f, shape=bodies) for _ in range(4))
         self.c_q = ti.Vector.field(4, f, shape=bodies)
         self.c_slip = ti.Vector.field(3, f, shape=(particles, planes) if materials else (1, 1))
+        self._build_checkpoints()
+
+    def _build_checkpoints(self) -> None:
+        """``spring`` (a func: the sticking spring contacts reads) and the kernels that move a
+        segment's first step to and from the checkpoint fields (c_*): save, restore, save_grad
+        (the adjoint carried to the previous segment), restore_grad."""
+        t, P, materials = self, self.planes, self.materials
+
+        @ti.func
+        def spring(s, i, j):
+            # Pair (i, j)'s spring at step s: contacts writes it at s - 1 only where the pair was
+            # near, and it is zero elsewhere; step 0's is a run's start (zero) or a checkpoint's.
+            slip = ti.Vector.zero(float, 3)
+            if s == 0:
+                slip = t.slip[s, i, j]
+            elif t.near[s - 1, i, j] != 0:
+                slip = t.slip[s, i, j]
+            return slip
+
+        @ti.kernel
+        def save(s: ti.i32, nb: ti.i32, n: ti.i32):
+            for b in range(nb):
+                t.c_x[b], t.c_q[b], t.c_P[b], t.c_L[b], t.c_w[b] = t.x[s, b], t.q[s, b], t.P[s, b], t.L[s, b], t.w[s, b]
+            if ti.static(materials):
+                for i, j in ti.ndrange(n, P):
+                    t.c_slip[i, j] = spring(s, i, j)
+
+        @ti.kernel
+        def restore(s: ti.i32, nb: ti.i32, n: ti.i32):
+            for b in range(nb):
+                t.x[s, b], t.q[s, b], t.P[s, b], t.L[s, b], t.w[s, b] = t.c_x[b], t.c_q[b], t.c_P[b], t.c_L[b], t.c_w[b]
+            if ti.static(materials):
+                for i, j in ti.ndrange(n, P):
+                    t.slip[s, i, j] = t.c_slip[i, j]
+
+        @ti.kernel
+        def save_grad(s: ti.i32, nb: ti.i32, n: ti.i32):
+            for b in range(nb):
+                t.c_x[b], t.c_q[b], t.c_P[b] = t.x.grad[s, b], t.q.grad[s, b], t.P.grad[s, b]
+                t.c_L[b], t.c_w[b] = t.L.grad[s, b], t.w.grad[s, b]
+            if ti.static(materials):
+                for i, j in ti.ndrange(n, P):
+                    t.c_slip[i, j] = t.slip.grad[s, i, j]
+
+        @ti.kernel
+        def restore_grad(s: ti.i32, nb: ti.i32, n: ti.i32):
+            for b in range(nb):
+                t.x.grad[s, b], t.q.grad[s, b], t.P.grad[s, b] = t.c_x[b], t.c_q[b], t.c_P[b]
+                t.L.grad[s, b], t.w.grad[s, b] = t.c_L[b], t.c_w[b]
+            if ti.static(materials):
+                for i, j in ti.ndrange(n, P):
+                    if t.near[s - 1, i, j] != 0:  # s > 0; a spring not near at s - 1 was zero: no adjoint
+                        t.slip.grad[s, i, j] = t.c_slip[i, j]
+
+        self.spring, self.save, self.restore, self.save_grad, self.restore_grad = \
+            spring, save, restore, save_grad, restore_grad
 
     PARAMETERS = ("m", "drag", "e_b", "mu_b", "x0", "q0", "v0", "w0", "e_p", "mu_p", "k", "c_world", "mu_world", "g")
     DERIVED = ("M", "I0", "I0inv")
@@ -72,8 +137,6 @@ class Tape:
 
     def load(self, problem) -> None:
         """The problem's fixed data and parameter values into the fields (padded past B, N, P)."""
-        import numpy as np
-
         put(self.r0, problem.r0)
         put(self.particle_body, problem.particle_body.astype(np.int32))
         put(self.body_count, problem.body_count.astype(np.int32))
@@ -92,15 +155,98 @@ class Tape:
                 put(field, value, -1.0 if name in ("e_p", "mu_p") else (1.0 if name == "m" else 0.0))
 
     def clear_parameter_grads(self) -> None:
-        for name in self.PARAMETERS + self.DERIVED:
-            getattr(self, name).grad.fill(0)
+        self._transfers()["zero"]()
+
+    def seed(self, cotangents: dict, frames: int, bodies: int) -> None:
+        """∂L/∂rows into the rows' adjoints (frames 0 .. frames; the rest stay zero: the rows'
+        adjoint consumes what it reads)."""
+        rows = np.zeros((frames + 1, bodies, 19))
+        for key, (a, b) in ROW_COLUMNS.items():
+            if key in cotangents:
+                rows[:, :, a:b] = cotangents[key]
+        self._transfers()["seed"](rows)
+
+    def rows(self, frames: int, bodies: int) -> dict:
+        """The rows of frames 0 .. frames, as rigid.Simulator.advance gives them (float64)."""
+        rows = np.zeros((frames + 1, bodies, 19))
+        self._transfers()["rows"](rows)
+        return {key: rows[:, :, a:b].copy() for key, (a, b) in ROW_COLUMNS.items()}
+
+    def parameter_grads(self) -> dict:
+        """The adjoint of each of PARAMETERS, in its field's shape (float64)."""
+        fields = [getattr(self, name) for name in self.PARAMETERS]
+        sizes = [int(np.prod(f.shape)) * getattr(f, "n", 1) for f in fields]
+        flat = np.zeros(sum(sizes))
+        self._transfers()["grads"](flat)
+        out, start = {}, 0
+        for name, f, size in zip(self.PARAMETERS, fields, sizes):
+            out[name] = flat[start:start + size].reshape(f.shape + ((f.n,) if hasattr(f, "n") else ()))
+            start += size
+        return out
+
+    def _transfers(self) -> dict:
+        """One launch each, serial (a few hundred numbers: a field's to_numpy or fill is a launch on
+        the thread pool apiece): zero the parameters' adjoints, seed the rows' adjoints, read the
+        rows, read the parameters' adjoints."""
+        if hasattr(self, "_kernels"):
+            return self._kernels
+        zeroed = [getattr(self, name).grad for name in self.PARAMETERS + self.DERIVED]
+        rows = [(f, ROW_COLUMNS[key][0], f.n) for key, f in self.row_fields().items()]
+        grads, start = [], 0
+        for name in self.PARAMETERS:
+            f = getattr(self, name)
+            grads.append((f.grad, start, f.shape, getattr(f, "n", 0)))
+            start += int(np.prod(f.shape)) * getattr(f, "n", 1)
+
+        @ti.kernel
+        def zero():
+            for f in ti.static(zeroed):
+                if ti.static(f.shape == ()):
+                    f[None] = ti.zero(f[None])
+                else:
+                    ti.loop_config(serialize=True)
+                    for I in ti.grouped(ti.ndrange(*f.shape)):
+                        f[I] = ti.zero(f[I])
+
+        @ti.kernel
+        def seed(a: ti.types.ndarray()):
+            ti.loop_config(serialize=True)
+            for f, b in ti.ndrange(a.shape[0], a.shape[1]):
+                for field, c0, n in ti.static(rows):
+                    field.grad[f, b] = ti.Vector([a[f, b, c0 + c] for c in ti.static(range(n))])
+
+        @ti.kernel
+        def read_rows(a: ti.types.ndarray()):
+            ti.loop_config(serialize=True)
+            for f, b in ti.ndrange(a.shape[0], a.shape[1]):
+                for field, c0, n in ti.static(rows):
+                    for c in ti.static(range(n)):
+                        a[f, b, c0 + c] = field[f, b][c]
+
+        @ti.kernel
+        def read_grads(a: ti.types.ndarray()):
+            for grad, c0, shape, n in ti.static(grads):  # 0-D or 1-D, scalars or vectors (n)
+                if ti.static(shape == () and n == 0):
+                    a[c0] = grad[None]
+                elif ti.static(shape == ()):
+                    for c in ti.static(range(n)):
+                        a[c0 + c] = grad[None][c]
+                else:
+                    ti.loop_config(serialize=True)
+                    for i in range(shape[0]):
+                        if ti.static(n == 0):
+                            a[c0 + i] = grad[i]
+                        else:
+                            for c in ti.static(range(n)):
+                                a[c0 + i * n + c] = grad[i][c]
+
+        self._kernels = dict(zero=zero, seed=seed, rows=read_rows, grads=read_grads)
+        return self._kernels
 
 
 def put(field, array, fill=0.0) -> None:
     """``array`` (leading axis: bodies, particles or planes) into the leading part of the 1-D
     ``field``; the rest is ``fill`` (a quaternion's: the identity)."""
-    import numpy as np
-
     array = np.asarray(array)
     full = np.full((field.shape[0],) + array.shape[1:], fill, array.dtype)
     if array.ndim == 2 and array.shape[1] == 4:
