@@ -31,7 +31,7 @@ def rel(a, b):
 
 
 def test_the_pass_runs_the_engines_physics_rows_match_the_simulator_to_round_off(results):
-    for name in ("materials", "plain", "symplectic"):
+    for name in ("materials", "plain", "symplectic", "two_bodies"):
         diffs = results[f"match_{name}"]
         assert set(diffs) == {"x", "q", "v", "omega", "P", "L"}
         assert max(diffs.values()) < 1e-10, (name, diffs)  # 40 frames through a bounce, float64

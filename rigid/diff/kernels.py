@@ -58,7 +58,7 @@ def build(tape, units, scheme: str, materials: bool, num_planes: int, serial: bo
         ti.loop_config(serialize=serial)
         for i in range(n):
             b = t.particle_body[i]
-            t.I0[b] += u.particle_inertia(t.m[b], t.r0[i])
+            t.I0[b] += u.particle_inertia(t.m[b], t.r0_mass[i])
 
     @ti.kernel
     def invert(nb: ti.i32):

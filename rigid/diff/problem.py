@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..bodies.colliders import check_colliders, uses_materials
+from ..bodies.inset import collision_centres
 from ..bodies.placement import scene_bodies
 from ..config import FRAME_TIME
 from ..engine.materials import UNSET, damping_table, friction_value
@@ -25,7 +26,7 @@ class Problem:
     scheme: str  # "euler" or "symplectic"
     dt: float
     substeps: int  # per frame, as rigid.Simulator: int(1/60 // dt)
-    r0: np.ndarray  # (N, 3) body-frame offsets from each body's centre of mass
+    r0: np.ndarray  # (N, 3) body-frame offsets of the collision spheres' centres from each body's centre of mass
     particle_body: np.ndarray  # (N,) int
     body_count: np.ndarray  # (B,) particles of each body
     radius: np.ndarray  # (B,) particle radius against the planes
@@ -34,6 +35,7 @@ class Problem:
     plane_from_top: np.ndarray  # (P, 2) bool: plane's (μ, e) is the top level's
     table: np.ndarray  # the scheme's damping table, flat (materials only)
     values: dict = field(default_factory=dict)
+    r0_mass: np.ndarray = None  # (N, 3) the particles' own offsets (TODO 1's inertia), as rigid.engine.model
 
     @property
     def num_bodies(self) -> int:
@@ -66,8 +68,13 @@ def build_problem(config) -> Problem:
     config = check_colliders(config)
     bodies = scene_bodies(config)
     materials = uses_materials(config)
-    r0 = [np.asarray(b.geometry.particles, np.float64) - np.asarray(b.geometry.particles, np.float64).mean(axis=0)
-          for b in bodies]
+    # As the engine's model: a body in company touches with spheres set inside its mesh
+    # (rigid.bodies.inset), their mean its centre of mass; its inertia is its particles' own.
+    centres = [collision_centres(b.geometry.particles, b.geometry.vertices, b.geometry.faces, b.radius)
+               for b in bodies]
+    r0 = [c - c.mean(axis=0) for c in centres]
+    r0_mass = np.concatenate([np.asarray(b.geometry.particles, np.float64) - c.mean(axis=0)
+                              for b, c in zip(bodies, centres)])
     counts = np.array([len(r) for r in r0])
     planes, plane_materials, from_top = plane_list(config)
     dt = float(config.dt)
@@ -76,6 +83,7 @@ def build_problem(config) -> Problem:
                       np.array([b.radius for b in bodies], np.float64),
                       np.array([np.linalg.norm(r, axis=1).max() for r in r0]), planes, from_top,
                       damping_table(config.integrator).reshape(-1) if materials else np.zeros(1))
+    problem.r0_mass = r0_mass
     pm = np.array(plane_materials, np.float64).reshape(-1, 2)
     problem.values = dict(
         x0=np.array([b.position for b in bodies], np.float64),

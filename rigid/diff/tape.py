@@ -58,7 +58,8 @@ class Tape:
         self.k, self.c_world, self.mu_world = scalar(()), scalar(()), scalar(())
         self.g = vec(3, ())
         # Fixed data (no gradients).
-        self.r0 = ti.Vector.field(3, f, shape=particles)
+        self.r0 = ti.Vector.field(3, f, shape=particles)  # the collision spheres' centres
+        self.r0_mass = ti.Vector.field(3, f, shape=particles)  # the particles themselves (TODO 1)
         self.particle_body = ti.field(ti.i32, shape=particles)
         self.body_count = ti.field(ti.i32, shape=bodies)
         self.radius = ti.field(f, shape=bodies)
@@ -138,6 +139,7 @@ class Tape:
     def load(self, problem) -> None:
         """The problem's fixed data and parameter values into the fields (padded past B, N, P)."""
         put(self.r0, problem.r0)
+        put(self.r0_mass, problem.r0_mass)
         put(self.particle_body, problem.particle_body.astype(np.int32))
         put(self.body_count, problem.body_count.astype(np.int32))
         put(self.radius, problem.radius)
