@@ -47,8 +47,9 @@ def init_taichi(arch: str = "cpu", fp64: bool = False, debug: bool = False, quic
         return _initialised["backend"]
     fp = ti.f64 if fp64 else ti.f32
     # cfg_optimization: Taichi's control-flow-graph passes (store-to-load forwarding, dead
-    # stores) grow steeply with a kernel's size: they took ~5/6 of a pile's first compile and
-    # bought nothing measurable at run time (report/bench_first_run.md), so they are off.
+    # stores) grow steeply with a kernel's size: they were most of a first compile of bodies in
+    # contact and bought nothing measurable at run time (report/bench_first_run.md), so they are
+    # off (rigid.diff turns them on for its own kernels: passes.compile_options).
     common = dict(default_fp=fp, log_level=ti.WARN, offline_cache=True, debug=debug,
                   random_seed=0, advanced_optimization=not quick_compile, cfg_optimization=False)
     if arch not in ARCHES:

@@ -67,7 +67,7 @@ def each_candidate(model: ti.template(), state: ti.template(), scratch: ti.templ
     walk call it apart, the list's loop kept as tight as a hand-written one (the plain law's hot
     loop); ``one_call`` walks both as one loop with one call (a list is one range of entries,
     the grid ROWS_AROUND ranges of sorted slots), for a big visitor such as the materials' law,
-    whose second copy made the kernel half again as slow to compile. The same visits, in the
+    whose second copy would be a large share of its kernel to compile. The same visits, in the
     same order, either way."""
     stride = neighbours.list_stride(scratch, state)
     n = scratch.nbr_count[i]

@@ -61,8 +61,8 @@ REFRESH_AT_LEAST = 16  # bodies: fewer, and a full rebuild is cheap (worth_refre
 def worth_refreshing(num_bodies: int) -> bool:
     """Whether a scene of ``num_bodies`` bodies (every world's) compiles the refresh: with a few
     bodies a full rebuild costs little more than a refresh, and the refresh's code is about a
-    quarter of the engine's kernel to compile (head_on.toml's first compile: 8.7 -> 6.6 s).
-    Either way the lists hold every touching pair in slot order: the bits are the same."""
+    quarter of the engine's kernel to compile (report/bench_first_run.md). Either way the lists
+    hold every touching pair in slot order: the bits are the same."""
     return num_bodies >= REFRESH_AT_LEAST
 
 
