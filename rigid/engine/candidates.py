@@ -25,15 +25,25 @@ _Overflow = namedtuple("_Overflow", "model scratch body visit ctx entries")
 
 
 @ti.func
+def _grid_candidate(model: ti.template(), scratch: ti.template(), a, slot):
+    """The particle at ``slot`` of the sorted grid if it is a candidate of a particle of body a
+    (not of a's own body, nor of another world), else −1."""
+    j = -1
+    b = scratch.sorted_body[slot]
+    if b != a and grid.same_world(model, b, a):
+        j = scratch.sorted_particle[slot]
+    return j
+
+
+@ti.func
 def _other_body(c: ti.template(), slot):
-    """each_candidate's overflow walk: a slot of the sorted grid is a candidate unless it is of
-    the particle's own body or of another world."""
-    b = c.scratch.sorted_body[slot]
-    if b != c.body and grid.same_world(c.model, b, c.body):
+    """each_candidate's overflow walk: visit the slot's particle if it is a candidate."""
+    j = _grid_candidate(c.model, c.scratch, c.body, slot)
+    if j >= 0:
         if ti.static(c.entries):
-            ti.static(c.visit)(c.ctx, c.scratch.sorted_particle[slot], -1)
+            ti.static(c.visit)(c.ctx, j, -1)
         else:
-            ti.static(c.visit)(c.ctx, c.scratch.sorted_particle[slot])
+            ti.static(c.visit)(c.ctx, j)
 
 
 ALL, ABOVE, BELOW = 0, 1, 2  # which of a listed particle's candidates each_candidate visits
@@ -50,6 +60,17 @@ def _first_above(scratch: ti.template(), base, n, i):
         else:
             lo = mid + 1
     return lo
+
+
+@ti.func
+def _listed_range(scratch: ti.template(), base, n, i, which: ti.template()):
+    """The entries [first, end) of the sorted list at ``base`` (n entries) that ``which`` asks for."""
+    first, end = 0, n
+    if ti.static(which == ABOVE):
+        first = _first_above(scratch, base, n, i)
+    elif ti.static(which == BELOW):
+        end = _first_above(scratch, base, n, i)
+    return first, end
 
 
 @ti.func
@@ -75,11 +96,7 @@ def each_candidate(model: ti.template(), state: ti.template(), scratch: ti.templ
     if ti.static(one_call):
         _each_in_one_loop(model, scratch, i, a, visit, ctx, which, entries, n, stride, base)
     elif n <= stride:
-        first, end = 0, n
-        if ti.static(which == ABOVE):
-            first = _first_above(scratch, base, n, i)
-        elif ti.static(which == BELOW):
-            end = _first_above(scratch, base, n, i)
+        first, end = _listed_range(scratch, base, n, i, which)
         for t in range(first, end):
             if ti.static(entries):
                 visit(ctx, scratch.nbr_list[base + t], base + t)
@@ -97,10 +114,7 @@ def _each_in_one_loop(model: ti.template(), scratch: ti.template(), i, a, visit:
     listed = n <= stride
     first, end = 0, n
     if listed:
-        if ti.static(which == ABOVE):
-            first = _first_above(scratch, base, n, i)
-        elif ti.static(which == BELOW):
-            end = _first_above(scratch, base, n, i)
+        first, end = _listed_range(scratch, base, n, i, which)
     g = ti.Vector([0, 0, 0])
     ranges = 1
     if not listed:
@@ -114,9 +128,7 @@ def _each_in_one_loop(model: ti.template(), scratch: ti.template(), i, a, visit:
             if listed:
                 j, e = scratch.nbr_list[base + t], base + t
             else:
-                b = scratch.sorted_body[t]
-                if b != a and grid.same_world(model, b, a):
-                    j = scratch.sorted_particle[t]
+                j = _grid_candidate(model, scratch, a, t)
             if j >= 0:
                 if ti.static(entries):
                     visit(ctx, j, e)
