@@ -64,6 +64,17 @@ def plane_force(p, v, radius, plane, k, kd, mu):
 
 
 @ti.func
+def plane_energy(p, radius, plane, k):
+    """The spring energy ½ k δ² of ``plane_force``, by the same operations, without the force."""
+    normal = ti.Vector([plane[0], plane[1], plane[2]])
+    energy = 0.0
+    depth = plane[3] + radius - normal.dot(p)
+    if depth > 0:
+        energy = 0.5 * k * depth * depth
+    return energy
+
+
+@ti.func
 def sticking_friction(slip, n, vt, step, k, ct, mu, fn):
     """Coulomb friction that sticks, for a contact of normal n carrying normal force fn: a
     tangential spring k whose stretch ``slip`` (world vec3, zero when the contact began) is

@@ -2,8 +2,8 @@
 1b ``place_for_pairs`` (the
 particles the pair stage reads), 3a ``pair_stage`` (each particle's force and couple from the
 other bodies' particles in its neighbour list, neighbours.py; the law is contact.py's, each
-pair evaluated by ``pair_between``), and ``pair_forces``, which the frame's contact energy
-also sums. On one thread pair_once.py's sweep replaces 3a."""
+pair evaluated by ``pair_between``), ``pair_forces``, and ``pair_energy``, the same pairs'
+energies alone for the frame's contact energy. On one thread pair_once.py's sweep replaces 3a."""
 from collections import namedtuple
 
 import taichi as ti
@@ -82,6 +82,56 @@ def pair_between(model: ti.template(), state: ti.template(), i, p, r_a, x_a, v_a
         f_lo, c, e = pair_contact(lo_p, hi_p, lo_r, hi_r, lo_x, lo_v, lo_w, hi_x, hi_v, hi_w, k, kd, kd, mu)
         f = sign * f_lo
     return f, c, e
+
+
+@ti.func
+def pair_energy_between(model: ti.template(), state: ti.template(), i, p, r_a, j, reach_max, k):
+    """Half the spring energy ½ k δ² of the pair (i at p, j), zero when apart: what pair_between
+    returns as its energy, by the same operations from the lower slot's side (pair_contact's
+    0.25 k δ²), without the forces (the frame's contact energy needs only this)."""
+    e = 0.0
+    p_j = state.particle_x[j]
+    d = p_j - p
+    dist2 = d.dot(d)
+    if dist2 < reach_max * reach_max:
+        r_b = model.particle_radius[model.particle_body[j]]
+        reach = r_a + r_b
+        if dist2 < reach * reach:
+            lo_p, hi_p, lo_r, hi_r = p, p_j, r_a, r_b
+            if j < i:
+                lo_p, hi_p, lo_r, hi_r = p_j, p, r_b, r_a
+            d_lo = hi_p - lo_p
+            dist2_lo = d_lo.dot(d_lo)
+            reach_lo = lo_r + hi_r
+            if dist2_lo < reach_lo * reach_lo and dist2_lo > 0:
+                overlap = reach_lo - ti.sqrt(dist2_lo)
+                e = 0.25 * k * overlap * overlap
+    return e
+
+
+EnergySum = namedtuple("EnergySum", "model state i p r_a reach_max k energy")
+
+
+@ti.func
+def _add_energy(c: ti.template(), j):
+    """pair_energy's visitor: candidate j's half pair energy, added where the pair touches."""
+    e = pair_energy_between(c.model, c.state, c.i, c.p, c.r_a, j, c.reach_max, c.k)
+    if e > 0:
+        c.energy += e
+
+
+@ti.func
+def pair_energy(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(), i):
+    """Σ over slot i's candidates of half each touching pair's ½ k δ², in slot order: the
+    energies pair_forces sums (the frame's contact energy, stages.block_contact_energy)."""
+    a = model.particle_body[i]
+    p, r_a = state.particle_x[i], model.particle_radius[a]
+    k, _kd, _mu = stages.contact_constants(world)
+    reach_max = r_a + bp.largest_radius(scratch)
+    energy = 0.0
+    candidates.each_candidate(model, state, scratch, i, a, _add_energy,
+                              ti.static(EnergySum(model, state, i, p, r_a, reach_max, k, energy)))
+    return energy
 
 
 PairSums = namedtuple("PairSums", "model state i p r_a x_a v_a w_a k kd mu reach_max waker wake f couple energy")

@@ -12,7 +12,7 @@ way, so runs are bit-reproducible. A lone body is B = 1: no grid, no pairs.
 import taichi as ti
 
 from . import pair_stages, schedule, schemes
-from .contact import plane_force
+from .contact import plane_energy
 from .matvec import body_offset, matvec
 from .static_faces import faced, on_face
 from .state import DAMPING, FRICTION, GX, NUM_PLANES, STIFFNESS
@@ -128,11 +128,12 @@ def block_contact_energy(model: ti.template(), state: ti.template(), world: ti.t
     """The springs' energy ½ k δ² of block k's particles (slot order): the static planes in reach
     (the others store none; a static mesh's faces as static_faces.on_face, and none on its own
     particles), and half of each pair's. Read at a frame's end, from the placed
-    particles."""
+    particles; energies only, no forces (contact.plane_energy, pair_stages.pair_energy): the
+    frame kernels compile no second copy of the contact laws."""
     b = model.block_body[k]
     start = model.block_start[k]
     end = start + model.block_count[k]
-    stiffness, kd, mu = contact_constants(world)
+    stiffness, _kd, _mu = contact_constants(world)
     radius = model.particle_radius[b]
     near = planes_in_reach(model, state, world, k)
     energy = 0.0
@@ -141,12 +142,9 @@ def block_contact_energy(model: ti.template(), state: ti.template(), world: ti.t
             for j in range(num_planes(world)):
                 if near & (1 << j):
                     if on_face(world, j, state.particle_x[i]) and not faced(model, b):
-                        _f, e = plane_force(state.particle_x[i], state.particle_v[i], radius, world.planes[j],
-                                            stiffness, kd, mu)
-                        energy += e
+                        energy += plane_energy(state.particle_x[i], radius, world.planes[j], stiffness)
         if ti.static(pairs):
-            _f, _c, e = pair_stages.pair_forces(model, state, world, scratch, i, False)
-            energy += e
+            energy += pair_stages.pair_energy(model, state, world, scratch, i)
     return energy
 
 
