@@ -22,10 +22,10 @@ def _run(sim_cache, schedule: str, frames: int = 40, **changes):
 
 @pytest.mark.parametrize("schedule", ["serial", "parallel"])
 def test_a_changing_skin_keeps_the_bits(sim_cache, monkeypatch, schedule):
-    from rigid.engine import neighbours, skin
+    from rigid.engine import skin
 
     wide = _run(sim_cache, schedule)
-    assert wide._skin.fraction == neighbours.SKIN_FRACTION  # a pile that reuses its lists keeps its skin
+    assert wide._skin.fraction == wide._skin.widest  # a pile that reuses its lists keeps its widest skin
     monkeypatch.setattr(skin, "SHRINK_ABOVE", 0.0)  # shrink after every frame, down to the least
     thin = _run(sim_cache, schedule)
     assert thin._skin.fraction == skin.MIN_FRACTION
@@ -112,3 +112,26 @@ def test_a_sleepers_particles_are_placed_once_not_by_every_full_placement(sim_ca
     still = np.isin(body, np.flatnonzero(sim.asleep())) & marked
     assert still.sum() >= 3 * 42
     assert np.array_equal(download(sim.state.particle_x)[still], x[still])
+
+
+def _median_nearest(points: np.ndarray) -> float:
+    """The median distance from each point to its nearest other point, by brute force."""
+    d = np.linalg.norm(points[:, None, :] - points[None, :, :], axis=-1)
+    np.fill_diagonal(d, np.inf)
+    return float(np.median(d.min(axis=1)))
+
+
+def test_the_widest_skin_is_half_the_densest_particle_spacing(sim_cache):
+    """The icosphere's vertices, moved inward by their radius, lie closer than a diameter: the
+    widest skin is half their spacing (from the placed particles, pairwise), in diameters; volume
+    particles lie a diameter apart, and keep half a diameter."""
+    from rigid.engine import neighbours
+
+    spheres = sim_cache(**PILE)
+    body0 = spheres.particle_positions()[spheres.particle_bodies() == 0]
+    diameter = 2.0 * float(spheres.model.radius_np[0])
+    spacing = _median_nearest(body0) / diameter
+    assert 0.6 < spacing < 0.8  # (0.71 for the course's icosphere at any scale)
+    assert spheres._skin.widest == pytest.approx(0.5 * spacing, rel=1e-5)  # (float32 placement)
+    boxes = sim_cache(**{**PILE, "mesh": str(ASSETS / "box.obj"), "particles": "volume", "count": 8})
+    assert boxes._skin.widest == neighbours.SKIN_FRACTION

@@ -16,16 +16,16 @@ NAMES = ("broadphase_ints", "broadphase_floats", "broadphase_body_ints", "broadp
 KEPT = ("broadphase_ints", "broadphase_body_ints", "broadphase_body_floats")
 
 
-def make_arrays(model, shape, diameter: float) -> dict:
+def make_arrays(model, shape, diameter: float, skin_fraction: float) -> dict:
     """The four arrays for ``model`` and a grid of GridShape ``shape``, its cells of the largest
-    particle ``diameter`` plus neighbours.SKIN_FRACTION of it; the rebuild flag is raised at the
-    Simulator's reset (``reset``)."""
+    particle ``diameter`` plus ``skin_fraction`` of it (the skin, skin.py); the rebuild flag is
+    raised at the Simulator's reset (``reset``)."""
     ints = np.zeros(bp.INTS, np.int32)
     ints[[bp.GRID_DIM, bp.GRID_CELLS, bp.GRID_CHUNKS]] = shape.dim, shape.num_cells, shape.num_chunks
     table = ti.ndarray(float_dtype(), (model.num_bodies, bp.BODY_FLOATS))
     upload(table, body_floats(model))
     return dict(broadphase_ints=device_array(ints, dtype=ti.i32),
-                broadphase_floats=device_array(float_values(diameter, neighbours.SKIN_FRACTION)),
+                broadphase_floats=device_array(float_values(diameter, skin_fraction)),
                 broadphase_body_ints=ti.ndarray(ti.i32, (bp.BODY_INTS, model.num_bodies + 1)),
                 broadphase_body_floats=table)
 

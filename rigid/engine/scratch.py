@@ -9,11 +9,12 @@ from .arrays import ScratchArgs, zeros
 from .grid import GridShape
 
 
-def make_scratch(model, config, pairs: bool, materials: bool):
-    """(ScratchArgs pack, its arrays by name, the GridShape)."""
+def make_scratch(model, config, pairs: bool, materials: bool, skin_fraction: float):
+    """(ScratchArgs pack, its arrays by name, the GridShape), the lists' skin ``skin_fraction``
+    of the largest particle diameter (skin.widest_fraction)."""
     B, N, K = model.num_bodies, model.num_particles, model.num_blocks
     diameter = particle_diameter(model)
-    cell = diameter + neighbours.SKIN_FRACTION * diameter
+    cell = diameter + skin_fraction * diameter
     span = 2.0 * config.wall / cell + 2 if config.walls else 0.0
     shape = GridShape.for_particles(N, pairs, span)
     lists = N * neighbours.NEIGHBOURS_PER_PARTICLE if pairs else 1
@@ -27,7 +28,7 @@ def make_scratch(model, config, pairs: bool, materials: bool):
                   nbr_count=zeros(paired, "i"), nbr_list=zeros(lists, "i"), build_x=zeros(paired, "v3"),
                   active=zeros(paired, "i"), rk=zeros(2 * B, "v13"),
                   contacts=zeros(N + 2 * K + 2 * B + pair_slip.kept_size(N, lists, pairs) if materials else 1, "i"),
-                  **broadphase_host.make_arrays(model, shape, diameter))
+                  **broadphase_host.make_arrays(model, shape, diameter, skin_fraction))
     return ScratchArgs()(**{name: arrays[name] for name in ScratchArgs.NAMES}), arrays, shape
 
 

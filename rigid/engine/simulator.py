@@ -27,10 +27,10 @@ from .kernels import engine_kernels
 from .refresh import worth_refreshing
 from .list_growth import ListGrowth
 from .scratch import make_scratch, particle_diameter
-from .skin import AdaptiveSkin
+from .skin import AdaptiveSkin, widest_fraction
 from .launch import run_chunk, schedule_launches
 from .model import BodyParts, Model
-from .neighbours import NEIGHBOURS_PER_PARTICLE
+from .neighbours import NEIGHBOURS_PER_PARTICLE, SKIN_FRACTION
 from .rows import FrameRows, split_rows, with_energies
 from .schedule import check_schedule, choose_schedule
 from .state import Params, State
@@ -89,13 +89,14 @@ class Simulator(Pushes):
         self.params.set_springs([s.row() for s in self.springs], worlds)
         self.params.sleep = self.params.sleep and not self.springs  # a spring's far end moves a sleeper
         self.rows = FrameRows(B, worlds)
-        self.scratch, self._scratch_arrays, self.grid_shape = make_scratch(self.model, config, pairs, self.materials)
+        skin = widest_fraction(self.model) if pairs else SKIN_FRACTION
+        self.scratch, self._scratch_arrays, self.grid_shape = make_scratch(self.model, config, pairs, self.materials, skin)
         if worlds > 1 and pairs:  # each world in cells of its own
             shifts = cell_shifts(worlds, B // worlds, span_in_cells(self.bodies, config, 1.0 / self.scratch_cell()))
             upload(self.model.body_world, world_table(worlds, B // worlds, shifts))
         self._launches = None
         self._lists = ListGrowth(N, pairs)
-        self._skin = AdaptiveSkin(particle_diameter(self.model), pairs, self._scratch_arrays)
+        self._skin = AdaptiveSkin(particle_diameter(self.model), skin, pairs, self._scratch_arrays)
         self.schedule = choose_schedule(N, pairs, schedule)
         self._surface_out = np.empty((max(self.model.num_surface, 1), 3), host_float())
         self.reset()
