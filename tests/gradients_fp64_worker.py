@@ -134,7 +134,8 @@ def main() -> None:
     cot = cotangent(frames, final=(1.0, 0.0, 0.0), every_y=0.0)
     scene = {**box, "friction": 0.3}
     g = rigid.gradient(scene, frames, cot, ["friction"])
-    segments = rigid.gradient(scene, frames, cot, ["friction"], checkpoint_frames=3)  # springs carried across
+    # Segments of 8 frames (as repeat()'s: one tape for both): springs carried across at frames 8 and 16.
+    segments = rigid.gradient(scene, frames, cot, ["friction"], checkpoint_frames=8)
     out["sliding"] = dict(mu=float(g["friction"]), fd_mu=central(scene, frames, cot, "friction"),
                           mu_segments=float(segments["friction"]))
     scene = {**box, "initial_velocity": (0.0, 0.0, 0.0), "collision_stiffness": 1e4}

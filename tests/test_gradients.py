@@ -52,7 +52,7 @@ def test_bounce_gradients_match_central_differences_of_the_engine(results):
 def test_sliding_box_friction_and_resting_box_stiffness_match_central_differences(results):
     assert rel(results["sliding"]["mu"], results["sliding"]["fd_mu"]) < 0.02
     assert results["sliding"]["mu"] < 0  # more friction, a shorter slide
-    # In segments of 3 frames: checkpoints and carried adjoints while the box slides.
+    # In segments of 8 frames: checkpoints and carried adjoints while the box slides.
     assert rel(results["sliding"]["mu_segments"], results["sliding"]["mu"]) < 1e-10
     assert rel(results["resting"]["k"], results["resting"]["fd_k"]) < 0.02
     assert results["resting"]["k"] > 0  # stiffer, less sag
