@@ -49,15 +49,18 @@ GROUPS = {
     **dict.fromkeys(("test_scenes", "test_many_bodies", "test_export_animation", "test_camera",
                      "test_multi_mesh_bodies", "test_report", "test_bench_many"), "scenes"),
     **dict.fromkeys(("test_core", "test_impulse", "test_panel", "test_window_grab", "test_window_shadow"), "sphere"),
+    # The many-body speed paths' bit checks build the same small piles (serial, parallel, parts,
+    # refresh, chunks): in one worker they compile each variant once, not once per worker.
+    **dict.fromkeys(("test_skin", "test_neighbours", "test_refresh", "test_list_growth", "test_pair_parts",
+                     "test_frame_chunks", "test_parallel_path"), "piles"),
 }
 # Groups by measured CPU time, longest first: xdist hands them out in collection order, each
 # worker holding about two tests ahead, so the long ones start first and both workers end on
 # short ones. The in-process "scenes" group runs beside the grading batch; the rest follow in
 # file order.
-ORDER = ("test_grading_batch", "scenes", "test_backends", "physics_fp64",
-         "test_view_memory", "test_export", "test_sweep", "test_view_raster",
-         "test_render", "test_parallel_path", "test_window", "sphere", "test_grading_handout",
-         "test_frame_chunks")
+ORDER = ("test_grading_batch", "test_gradients", "scenes", "piles", "test_backends", "test_sweep", "physics_fp64",
+         "test_notebook", "test_view_memory", "test_export", "test_view_raster",
+         "test_render", "test_window", "sphere", "test_grading_handout")
 
 
 def pytest_configure(config):
