@@ -53,12 +53,16 @@ GROUPS = {
     # refresh, chunks): in one worker they compile each variant once, not once per worker.
     **dict.fromkeys(("test_skin", "test_neighbours", "test_refresh", "test_list_growth", "test_pair_parts",
                      "test_frame_chunks", "test_parallel_path"), "piles"),
+    # Likewise the contact laws' and the forces' small scenes (materials, sleeping, worlds).
+    **dict.fromkeys(("test_contact_materials", "test_sleep_materials", "test_pair_friction", "test_angle_of_repose",
+                     "test_mesh_contact", "test_static_faces", "test_forces", "test_worlds", "test_sleep"), "contacts"),
 }
 # Groups by measured CPU time, longest first: xdist hands them out in collection order, each
 # worker holding about two tests ahead, so the long ones start first and both workers end on
 # short ones. The in-process "scenes" group runs beside the grading batch; the rest follow in
 # file order.
-ORDER = ("test_grading_batch", "test_gradients", "scenes", "piles", "test_backends", "test_sweep", "physics_fp64",
+ORDER = ("test_grading_batch", "test_gradients", "scenes", "piles", "test_backends", "contacts", "test_sweep",
+         "physics_fp64",
          "test_notebook", "test_view_memory", "test_export", "test_view_raster",
          "test_render", "test_window", "sphere", "test_grading_handout")
 
