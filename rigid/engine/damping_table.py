@@ -28,13 +28,17 @@ Its cost is the time loop: a node at h = 0.005 takes 600 to 8,000 steps a probe,
 other. So each bisection step is one run of every node's oscillators together (discrete and both
 continuous ones, ``loaded_restitution``), endings checked every _CHUNK steps; the continuous
 probes run once per distinct (ζ', γ) (RK4's columns share them); the load-free ζ once per e.
-About 1 s a scheme on a loaded 2-core machine (3 to 8 s before); the values are the same bit
-for bit (each element's arithmetic is its own run's).
+The values are the same bit for bit as one oscillator at a time (each element's arithmetic is
+its own run's). The package ships the three schemes' tables (damping_tables.npz, with this
+source's fingerprint; ``python -m rigid.engine.damping_table`` makes them again), so a run with
+materials reads them instead of computing them at start-up.
 """
 from __future__ import annotations
 
 import functools
+import hashlib
 import math
+from pathlib import Path
 
 import numpy as np
 
@@ -196,10 +200,33 @@ def _unloaded(zetas: np.ndarray, h: float, scheme: str) -> np.ndarray:
     return out
 
 
+SCHEMES = ("euler", "symplectic", "rk4")
+SHIPPED = Path(__file__).with_name("damping_tables.npz")  # the three tables, made by ``python -m rigid.engine.damping_table``
+
+
+def _fingerprint() -> str:
+    """What the tables depend on: this module's source (its constants and its arithmetic)."""
+    return hashlib.sha256(Path(__file__).read_bytes()).hexdigest()
+
+
 @functools.lru_cache(maxsize=4)
 def damping_table(scheme: str) -> np.ndarray:
-    """(NUM_E, NUM_H, NUM_B) ζ' per (e, h = ω Δt, β = γ / e) for ``scheme``; RK4: the
-    continuous ζ at every h (within the step's limit)."""
+    """(NUM_E, NUM_H, NUM_B) ζ' per (e, h = ω Δt, β = γ / e) for ``scheme``: the package's copy
+    (SHIPPED) when it was made by this source, else computed (``compute_damping_table``, about
+    half a second a scheme: a start-up cost of every run with materials, which the copy saves;
+    tests/test_damping_table.py checks the copy against the computation)."""
+    try:
+        with np.load(SHIPPED) as tables:
+            if str(tables["fingerprint"]) == _fingerprint():
+                return np.array(tables[scheme])
+    except (OSError, KeyError, ValueError):
+        pass
+    return compute_damping_table(scheme)
+
+
+def compute_damping_table(scheme: str) -> np.ndarray:
+    """The table ``damping_table`` gives for ``scheme``, computed; RK4: the continuous ζ at every
+    h (within the step's limit)."""
     e, h, beta = np.meshgrid(np.linspace(0.0, 1.0, NUM_E), np.array(H_GRID), np.array(BETA_GRID), indexing="ij")
     load = beta * e
     limit = np.where(h > 0, 0.5 / np.maximum(h, 1e-300), ZETA_DEAD)
@@ -224,3 +251,16 @@ def damping_table(scheme: str) -> np.ndarray:
     table[reachable] = np.exp(hi[reachable])
     table[:, :, 0] = _load_free(scheme, zeta_free)
     return table
+
+
+def write_shipped(path: Path = SHIPPED) -> None:
+    """Compute the three schemes' tables and write them, with this source's fingerprint, to ``path``."""
+    tables = {scheme: compute_damping_table(scheme) for scheme in SCHEMES}
+    temporary = path.with_suffix(".tmp.npz")
+    np.savez_compressed(temporary, fingerprint=np.array(_fingerprint()), **tables)
+    temporary.replace(path)
+
+
+if __name__ == "__main__":
+    write_shipped()
+    print(f"wrote {SHIPPED}")
