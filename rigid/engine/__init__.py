@@ -36,7 +36,8 @@
   grab.py       the mouse's spring's runtime values (WorldArgs.values); pushes.py: impulses, the grab,
                 waking sleepers (the Simulator's methods)
   materials.py  restitution e -> each contact's damper, the pair rules; damping_table.py: ζ'(e, ωΔt,
-                load) from each scheme's own clamped oscillator; material_stages.py: the pair
+                load) from each scheme's own clamped oscillator (damping_tables.npz: the three
+                schemes' tables, shipped); material_stages.py: the pair
                 stage and the contact counts when a scene sets materials, planes or static meshes
   schemes.py    the updates from (F, τ): explicit Euler (TODO 5-7), symplectic Euler, RK4
   kernels.py    the kernels, cached per (TODO units, scheme; compact particle loops for the grader),
