@@ -205,8 +205,9 @@ SHIPPED = Path(__file__).with_name("damping_tables.npz")  # the three tables, ma
 
 
 def _fingerprint() -> str:
-    """What the tables depend on: this module's source (its constants and its arithmetic)."""
-    return hashlib.sha256(Path(__file__).read_bytes()).hexdigest()
+    """What the tables depend on: this module's source (its constants and its arithmetic), its
+    line endings normalised (a Windows checkout's CRLF is the same source)."""
+    return hashlib.sha256(Path(__file__).read_bytes().replace(b"\r\n", b"\n")).hexdigest()
 
 
 @functools.lru_cache(maxsize=4)
