@@ -48,13 +48,20 @@ def friction(fn, vt, mu, kd):
 
 
 @ti.func
-def plane_force(p, v, radius, plane, k, kd, mu):
-    """The plane {y : n·y = offset} (``plane`` = (n, offset), n into the free side) on a particle's
-    sphere at p moving at v: the force at its centre and the spring's energy ½ k δ²."""
+def plane_depth(p, radius, plane):
+    """The plane {y : n·y = offset} (``plane`` = (n, offset), n into the free side) and a particle's
+    sphere at p: (n, the overlap δ = offset + radius − n·p; positive where they touch)."""
     normal = ti.Vector([plane[0], plane[1], plane[2]])
+    return normal, plane[3] + radius - normal.dot(p)
+
+
+@ti.func
+def plane_force(p, v, radius, plane, k, kd, mu):
+    """The plane ``plane`` (``plane_depth``) on a particle's
+    sphere at p moving at v: the force at its centre and the spring's energy ½ k δ²."""
     force = ti.Vector.zero(float, 3)
     energy = 0.0
-    depth = plane[3] + radius - normal.dot(p)
+    normal, depth = plane_depth(p, radius, plane)
     if depth > 0:
         vn = normal.dot(v)
         fn = ti.max(k * depth - kd * vn, 0.0)
@@ -66,9 +73,8 @@ def plane_force(p, v, radius, plane, k, kd, mu):
 @ti.func
 def plane_energy(p, radius, plane, k):
     """The spring energy ½ k δ² of ``plane_force``, by the same operations, without the force."""
-    normal = ti.Vector([plane[0], plane[1], plane[2]])
     energy = 0.0
-    depth = plane[3] + radius - normal.dot(p)
+    _normal, depth = plane_depth(p, radius, plane)
     if depth > 0:
         energy = 0.5 * k * depth * depth
     return energy
@@ -101,11 +107,10 @@ def plane_force_sticking(p, v, radius, plane, k, c, ct, mu, slip, step):
     stretch ``slip`` (world vec3, zero when the contact begins) grows by v_t ``step`` (the time
     the force acts), damped by ct, slipping at μ f_n (then re-anchored where the spring alone
     holds μ f_n). Returns (force at the centre, the new slip, 1 if touching else 0)."""
-    normal = ti.Vector([plane[0], plane[1], plane[2]])
     force = ti.Vector.zero(float, 3)
     new_slip = ti.Vector.zero(float, 3)
     touching = 0
-    depth = plane[3] + radius - normal.dot(p)
+    normal, depth = plane_depth(p, radius, plane)
     if depth > 0:
         touching = 1
         vn = normal.dot(v)
@@ -147,23 +152,33 @@ def lower_slot_first(i, j, p_i, r_i, x_i, v_i, w_i, p_j, r_j, x_j, v_j, w_j):
 
 
 @ti.func
-def _pair_frame(p_i, p_j, r_a, r_b, x_a, v_a, w_a, x_b, v_b, w_b):
-    """Two particles' spheres: (whether they overlap, the normal n from i to j, the overlap δ, the
-    contact point c in the middle of the overlap, j's velocity relative to i's at c); zeros
-    when apart (or at one point, where no normal exists)."""
+def _pair_overlap(p_i, p_j, r_a, r_b):
+    """Two particles' spheres: (whether they overlap, d = p_j − p_i, |d|, the overlap δ); zeros past
+    d when apart (or at one point, where no normal exists)."""
     touching = False
-    n = ti.Vector.zero(float, 3)
+    dist = 0.0
     overlap = 0.0
-    c = ti.Vector.zero(float, 3)
-    v_rel = ti.Vector.zero(float, 3)
     d = p_j - p_i
     dist2 = d.dot(d)
     reach = r_a + r_b
     if dist2 < reach * reach and dist2 > 0:
         touching = True
         dist = ti.sqrt(dist2)
-        n = d / dist
         overlap = reach - dist
+    return touching, d, dist, overlap
+
+
+@ti.func
+def _pair_frame(p_i, p_j, r_a, r_b, x_a, v_a, w_a, x_b, v_b, w_b):
+    """Two particles' spheres: (whether they overlap, the normal n from i to j, the overlap δ, the
+    contact point c in the middle of the overlap, j's velocity relative to i's at c); zeros
+    when apart (``_pair_overlap``)."""
+    n = ti.Vector.zero(float, 3)
+    c = ti.Vector.zero(float, 3)
+    v_rel = ti.Vector.zero(float, 3)
+    touching, d, dist, overlap = _pair_overlap(p_i, p_j, r_a, r_b)
+    if touching:
+        n = d / dist
         c = 0.5 * (p_i + p_j) + (0.5 * (r_a - r_b)) * n
         v_rel = (v_b + w_b.cross(c - x_b)) - (v_a + w_a.cross(c - x_a))
     return touching, n, overlap, c, v_rel
@@ -182,8 +197,25 @@ def pair_contact(p_i, p_j, r_a, r_b, x_a, v_a, w_a, x_b, v_b, w_b, k, kd, kt, mu
         fn = ti.max(k * overlap - kd * vn, 0.0)
         # The relative velocity is j's relative to i: friction on i acts along +v_t.
         force = -fn * n - friction(fn, v_rel - vn * n, mu, kt)
-        energy = 0.25 * k * overlap * overlap
+        energy = _half_pair_energy(k, overlap)
     return force, c, energy
+
+
+@ti.func
+def pair_contact_energy(p_i, p_j, r_a, r_b, k):
+    """``pair_contact``'s energy alone: half the pair's ½ k δ² (zero when apart), by the same
+    operations."""
+    energy = 0.0
+    touching, _d, _dist, overlap = _pair_overlap(p_i, p_j, r_a, r_b)
+    if touching:
+        energy = _half_pair_energy(k, overlap)
+    return energy
+
+
+@ti.func
+def _half_pair_energy(k, overlap):
+    """Half of a pair's spring energy ½ k δ² (each side of the pair holds half)."""
+    return 0.25 * k * overlap * overlap
 
 
 @ti.func

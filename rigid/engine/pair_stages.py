@@ -10,7 +10,7 @@ import taichi as ti
 
 from . import broadphase as bp
 from . import candidates, neighbours, sleep, stages
-from .contact import lower_slot_first, pair_contact
+from .contact import lower_slot_first, pair_contact, pair_contact_energy
 
 
 @ti.func
@@ -64,6 +64,20 @@ def pair_between(model: ti.template(), state: ti.template(), i, p, r_a, x_a, v_a
     f = ti.Vector.zero(float, 3)
     c = ti.Vector.zero(float, 3)
     e = 0.0
+    p_j, b, r_b, near = _near(model, state, p, r_a, j, reach_max)
+    if near:
+        x_b, v_b, w_b = state.x[b], state.v[b], state.omega[b]
+        lo_p, lo_r, lo_x, lo_v, lo_w, hi_p, hi_r, hi_x, hi_v, hi_w, sign = lower_slot_first(
+            i, j, p, r_a, x_a, v_a, w_a, p_j, r_b, x_b, v_b, w_b)
+        f_lo, c, e = pair_contact(lo_p, hi_p, lo_r, hi_r, lo_x, lo_v, lo_w, hi_x, hi_v, hi_w, k, kd, kd, mu)
+        f = sign * f_lo
+    return f, c, e
+
+
+@ti.func
+def _near(model: ti.template(), state: ti.template(), p, r_a, j, reach_max):
+    """(p_j, j's body b, its radius r_b, whether the spheres at p (radius r_a) and p_j overlap):
+    b and r_b are loaded only where j lies within ``reach_max`` (zeros beyond)."""
     p_j = state.particle_x[j]
     d = p_j - p
     dist2 = d.dot(d)
@@ -75,37 +89,21 @@ def pair_between(model: ti.template(), state: ti.template(), i, p, r_a, x_a, v_a
         r_b = model.particle_radius[b]
         reach = r_a + r_b
         near = dist2 < reach * reach
-    if near:
-        x_b, v_b, w_b = state.x[b], state.v[b], state.omega[b]
-        lo_p, lo_r, lo_x, lo_v, lo_w, hi_p, hi_r, hi_x, hi_v, hi_w, sign = lower_slot_first(
-            i, j, p, r_a, x_a, v_a, w_a, p_j, r_b, x_b, v_b, w_b)
-        f_lo, c, e = pair_contact(lo_p, hi_p, lo_r, hi_r, lo_x, lo_v, lo_w, hi_x, hi_v, hi_w, k, kd, kd, mu)
-        f = sign * f_lo
-    return f, c, e
+    return p_j, b, r_b, near
 
 
 @ti.func
 def pair_energy_between(model: ti.template(), state: ti.template(), i, p, r_a, j, reach_max, k):
-    """Half the spring energy ½ k δ² of the pair (i at p, j), zero when apart: what pair_between
-    returns as its energy, by the same operations from the lower slot's side (pair_contact's
-    0.25 k δ²), without the forces (the frame's contact energy needs only this)."""
+    """Half the spring energy ½ k δ² of the pair (i at p, j), zero when apart: pair_between's
+    energy, from the lower slot's side as there (contact.pair_contact_energy), without the forces (the
+    frame's contact energy needs only this)."""
     e = 0.0
-    p_j = state.particle_x[j]
-    d = p_j - p
-    dist2 = d.dot(d)
-    if dist2 < reach_max * reach_max:
-        r_b = model.particle_radius[model.particle_body[j]]
-        reach = r_a + r_b
-        if dist2 < reach * reach:
-            lo_p, hi_p, lo_r, hi_r = p, p_j, r_a, r_b
-            if j < i:
-                lo_p, hi_p, lo_r, hi_r = p_j, p, r_b, r_a
-            d_lo = hi_p - lo_p
-            dist2_lo = d_lo.dot(d_lo)
-            reach_lo = lo_r + hi_r
-            if dist2_lo < reach_lo * reach_lo and dist2_lo > 0:
-                overlap = reach_lo - ti.sqrt(dist2_lo)
-                e = 0.25 * k * overlap * overlap
+    p_j, _b, r_b, near = _near(model, state, p, r_a, j, reach_max)
+    if near:
+        if j < i:
+            e = pair_contact_energy(p_j, p, r_b, r_a, k)
+        else:
+            e = pair_contact_energy(p, p_j, r_a, r_b, k)
     return e
 
 
