@@ -82,10 +82,10 @@ def _close_pairs(points, bodies) -> np.ndarray:
     """(a, b) with a < b, in that order, of the bodies whose bounding spheres (about their particles'
     centre, holding every particle's sphere) meet, leaving out two statics and the meshes of one
     file. A tree of the centres finds them: testing every pair in Python grows as the square."""
+    if len(bodies) < 2:  # (a lone body's run never imports scipy: ~0.2 s of every start)
+        return np.zeros((0, 2), int)
     from scipy.spatial import cKDTree
 
-    if len(bodies) < 2:
-        return np.zeros((0, 2), int)
     centres = np.array([p.mean(axis=0) for p in points])
     reach = np.array([np.sqrt(((p - c) ** 2).sum(axis=1).max()) + b.radius
                       for p, c, b in zip(points, centres, bodies)])
