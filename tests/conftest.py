@@ -41,30 +41,30 @@ ROOT = Path(__file__).resolve().parent.parent
 ASSETS = ROOT / "assets"
 SOLUTION = ROOT / "rigid_body_dynamic.py"
 
-# Files that must run in one worker process: they share a float64 worker (physics_results.py);
-# the in-process scene runs go together, which keeps the kernels of many bodies in one worker.
+# Files that must run in one worker process: they share a float64 worker (physics_results.py).
+# The in-process runs of the engine go together, in one worker: Taichi writes its disk cache only
+# when a process exits, so two workers running the same scenes, piles or contact laws would each
+# compile the same kernels (a pile's set costs ~3 CPU-s), and the bit checks of the many-body speed
+# paths build the same small piles (serial, parallel, parts, refresh, chunks).
 GROUPS = {
     **dict.fromkeys(("test_physics_accuracy", "test_physics_energy", "test_physics_inertia",
                      "test_physics_momentum", "test_physics_rotation"), "physics_fp64"),
     **dict.fromkeys(("test_scenes", "test_many_bodies", "test_export_animation", "test_camera",
-                     "test_multi_mesh_bodies", "test_report", "test_bench_many"), "scenes"),
-    **dict.fromkeys(("test_core", "test_impulse", "test_panel", "test_window_grab", "test_window_shadow"), "sphere"),
-    # The many-body speed paths' bit checks build the same small piles (serial, parallel, parts,
-    # refresh, chunks): in one worker they compile each variant once, not once per worker.
-    **dict.fromkeys(("test_skin", "test_neighbours", "test_refresh", "test_list_growth", "test_pair_parts",
-                     "test_frame_chunks", "test_parallel_path"), "piles"),
-    # Likewise the contact laws' and the forces' small scenes (materials, sleeping, worlds).
-    **dict.fromkeys(("test_contact_materials", "test_sleep_materials", "test_pair_friction", "test_angle_of_repose",
-                     "test_mesh_contact", "test_static_faces", "test_forces", "test_worlds", "test_sleep"), "contacts"),
+                     "test_multi_mesh_bodies", "test_report", "test_bench_many",
+                     "test_core", "test_impulse", "test_panel", "test_window_grab", "test_window_shadow",
+                     "test_skin", "test_neighbours", "test_refresh", "test_list_growth", "test_pair_parts",
+                     "test_frame_chunks", "test_parallel_path",
+                     "test_contact_materials", "test_sleep_materials", "test_pair_friction", "test_angle_of_repose",
+                     "test_mesh_contact", "test_static_faces", "test_forces", "test_worlds", "test_sleep"), "engine"),
 }
 # Groups by measured CPU time, longest first: xdist hands them out in collection order, each
 # worker holding about two tests ahead, so the long ones start first and both workers end on
-# short ones. The in-process "scenes" group runs beside the grading batch; the rest follow in
-# file order.
-ORDER = ("test_grading_batch", "test_gradients", "scenes", "piles", "test_backends", "contacts", "test_sweep",
-         "physics_fp64",
+# short ones. The in-process "engine" group runs on one worker while the other takes the
+# subprocess-bound files (the grading batch, the float64 gradients, Vulkan, sweeps); the rest
+# follow in file order.
+ORDER = ("engine", "test_grading_batch", "test_gradients", "test_backends", "test_sweep", "physics_fp64",
          "test_notebook", "test_view_memory", "test_export", "test_view_raster",
-         "test_render", "test_window", "sphere", "test_grading_handout")
+         "test_render", "test_window", "test_grading_handout")
 
 
 def pytest_configure(config):

@@ -1,9 +1,10 @@
 """scripts/bench_many.py --quick runs and writes the report's keys (speeds are never asserted).
 
-It runs in this worker (the "scenes" group, conftest.GROUPS), through the script's own ``main``:
+It runs in this worker (the "engine" group, conftest.GROUPS), through the script's own ``main``:
 the kernels it compiles are the group's, where a process of its own compiled them again."""
 import importlib.util
 import json
+import math
 
 from conftest import ROOT
 
@@ -23,7 +24,8 @@ def test_bench_many_quick(tmp_path, units, capsys):
     assert report["scaling"] and {"particles", "us_per_substep", "contact_us_per_substep", "path"} <= set(report["scaling"][0])
     assert {"fps", "contact_fps", "particles", "bodies"} <= set(report["thousand"])
     fixed = report["fixed"]  # two small piles: a line through two points
-    assert [r["particles"] for r in fixed["rows"]] == [84, 168] and fixed["ns_per_particle"] != 0, fixed
+    # (the slope of two timings: any finite number, zero where they tie on a loaded machine)
+    assert [r["particles"] for r in fixed["rows"]] == [84, 168] and math.isfinite(fixed["ns_per_particle"]), fixed
     assert "fixed cost per substep" in (tmp_path / "bench_many.md").read_text()
     (pile,) = report["pile_scaling"]  # the quick run: the 27-sphere pile only
     assert pile["bodies"] == 27 and pile["particles"] == 27 * 42, pile

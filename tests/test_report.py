@@ -1,7 +1,7 @@
 """scripts/make_report.py: the report regenerates identically and its PDF holds the figures.
 
 The first build is the command line in a process of its own; the second is the same build
-(rigid.report.build.build) in this worker, which runs the "scenes" group (conftest.GROUPS) and
+(rigid.report.build.build) in this worker, which runs the "engine" group (conftest.GROUPS) and
 so has the scenes' kernels compiled: measured ~5-6 s there, against 9.4 s for a second process
 with a warm disk cache. Two processes, two orders of compiling, the same bytes."""
 import shutil
