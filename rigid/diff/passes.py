@@ -179,9 +179,7 @@ class Pass:
         t, k, p = self.tape, self.k, self.problem
         B, N = p.num_bodies, p.num_particles
         k.clear(0, B, N, 2)
-        k.inertia(N)
-        k.invert(B)
-        k.init(B)
+        k.start(N, B)
         self.checkpoints = []
         for g in range(self.num_segments):
             if g > 0:
@@ -243,6 +241,4 @@ class Pass:
                 t.save_grad(0, B, N)
                 self._carried = t.checkpoint()
             self.seconds["adjoint"] += time.perf_counter() - start
-        k.init.grad(B)
-        k.invert.grad(B)
-        k.inertia.grad(N)
+        k.start.grad(N, B)
