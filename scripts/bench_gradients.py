@@ -84,7 +84,7 @@ def main():
           f" (last call)")
     print(f"tape memory (fields and their adjoints):            {tape_bytes(run.tape) / 2**20:.2f} MiB "
           f"for {run.segment} substeps a segment; checkpoints on the host: "
-          f"{sum(a.nbytes for c in run.checkpoints for a in c) / 2**10:.1f} KiB")
+          f"{sum(c.nbytes for c in run.checkpoints if c is not None) / 2**10:.1f} KiB")
 
 
 if __name__ == "__main__":

@@ -48,11 +48,13 @@ def cotangent(frames, final=(1.0, 1.0, 1.0), every_y=0.1):
 
 
 BOUNCE = dict(mesh="sphere.obj", scale=0.3, initial_velocity=(0.8, -1.0, 0.4), initial_angular_velocity=(0.0, 0.0, 2.0))
-# Two bodies bouncing apart: in company a body touches with spheres set inside its mesh (the
-# engine's model, rigid.bodies.inset), which the pass must place as the Simulator does.
+# A ball and a box bouncing apart: in company a body touches with spheres set inside its mesh
+# (the engine's model, rigid.bodies.inset: moved in along a smooth vertex's normal, and along a
+# corner's three faces), which the pass must place as the Simulator does. 50 particles: the
+# pass's tape of lone bodies (64 particles, 2 bodies) serves it.
 TWO_BODIES = dict(mesh="sphere.obj", scale=0.2, sleep=False,
                   bodies=[dict(position=(-0.5, 0.0, 0.0), initial_velocity=(0.3, -1.0, 0.0)),
-                          dict(position=(0.5, 0.3, 0.0), initial_velocity=(-0.2, -0.5, 0.1))])
+                          dict(mesh="box.obj", position=(0.5, 0.3, 0.0), initial_velocity=(-0.2, -0.5, 0.1))])
 # test_gradients computes this one in the suite's float32 process against this process's float64.
 FLOAT32_CASE = dict(scene=dict(mesh="sphere.obj", scale=0.3, initial_velocity=(0.8, -1.0, 0.4), restitution=0.6),
                     frames=30, wrt=["initial_velocity", "restitution"])
@@ -134,7 +136,7 @@ def main() -> None:
     cot = cotangent(frames, final=(1.0, 0.0, 0.0), every_y=0.0)
     scene = {**box, "friction": 0.3}
     g = rigid.gradient(scene, frames, cot, ["friction"])
-    # Segments of 8 frames (as repeat()'s: one tape for both): springs carried across at frames 8 and 16.
+    # Segments of 8 frames (on the whole run's tape, as repeat()'s): springs carried across at frames 8 and 16.
     segments = rigid.gradient(scene, frames, cot, ["friction"], checkpoint_frames=8)
     out["sliding"] = dict(mu=float(g["friction"]), fd_mu=central(scene, frames, cot, "friction"),
                           mu_segments=float(segments["friction"]))

@@ -3,6 +3,7 @@
   scope.py     what the mode takes: one line for a scene feature, a wrt name or a cotangent it refuses
   problem.py   a scene as the pass reads it (the engine's placement, planes and materials)
   tape.py      the fields: state with a step axis for one segment, parameters, rows
+  transfers.py copies between the host and a tape's fields, one launch each
   kernels.py   the substep written time-indexed, from the student's TODO units and the engine's
                contact law (rigid.engine.contact, rigid.engine.materials)
   passes.py    forward and backward, in segments with checkpoints (bounded memory)

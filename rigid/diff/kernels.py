@@ -54,22 +54,18 @@ def build(tape, units, scheme: str, materials: bool, num_planes: int, serial: bo
         return t.x[s, b], quaternion_to_matrix(t.q[s, b]), t.P[s, b] / t.M[b], t.w[s, b]
 
     @ti.kernel
-    def inertia(n: ti.i32):
+    def start(n: ti.i32, nb: ti.i32):
+        # A run's start, three loops in one launch (and one for its adjoint, the loops reversed):
+        # I0 = Σ TODO 1 per body; I0⁻¹ and M; then rigid.engine.schemes.init_body and store:
+        # L = R I0 Rᵀ ω, P = M v, ω from TODO 7.
         ti.loop_config(serialize=serial)
         for i in range(n):
             b = t.particle_body[i]
             t.I0[b] += u.particle_inertia(t.m[b], t.r0_mass[i])
-
-    @ti.kernel
-    def invert(nb: ti.i32):
         ti.loop_config(serialize=serial)
         for b in range(nb):
             t.I0inv[b] = t.I0[b].inverse()
             t.M[b] = t.m[b] * t.body_count[b]
-
-    @ti.kernel
-    def init(nb: ti.i32):
-        # rigid.engine.schemes.init_body and store: L = R I0 Rᵀ ω, P = M v, ω from TODO 7.
         ti.loop_config(serialize=serial)
         for b in range(nb):
             q = t.q0[b]
@@ -257,5 +253,4 @@ def build(tape, units, scheme: str, materials: bool, num_planes: int, serial: bo
 
     from types import SimpleNamespace
 
-    return SimpleNamespace(inertia=inertia, invert=invert, init=init, clear=clear, substep=substep, advance=advance,
-                           rows=rows)
+    return SimpleNamespace(start=start, clear=clear, substep=substep, advance=advance, rows=rows)

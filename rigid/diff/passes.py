@@ -25,6 +25,7 @@ TAPE_BYTES = 256 * 2**20  # the tape's budget (state, forces and their adjoints)
 FRAMES_AT_LEAST = 64  # a tape holds at least this many frames (fewer where the budget says so)
 SERIAL_PARTICLES = 512  # up to this many (padded) particles a substep's loops run on one thread
 PLANES_AT_LEAST = 5  # the box's floor and four walls
+BODIES_AT_LEAST = 2  # a lone body's tape serves two (a body's fields are ~350 bytes a step)
 AD_STACK_SPARE = 32  # ad-stack entries the kernels are compiled with, beyond the planes' count
 _TAPES: dict = {}
 
@@ -32,7 +33,7 @@ _TAPES: dict = {}
 @contextmanager
 def compile_options(**options):
     """Kernels first launched inside compile with these Taichi CompileConfig ``options``; the
-    process's own are restored after (rigid.runtime's serve the engine). The pass uses two:
+    process's own are restored after (rigid.runtime's serve the engine). The pass uses three:
 
     - ``cfg_optimization=True``: Taichi's store-to-load forwarding and dead-store passes, which the
       engine goes without for its compile time, make the fused adjoint about 3x faster and the
@@ -44,7 +45,12 @@ def compile_options(**options):
       silent, and dependent on what earlier kernels left on the native stack (``advance``'s adjoint
       drifted after other kernels ran). With more entries than any local takes in one iteration
       of a stage, no stack is ever full: the force sum over the planes takes the planes' count + 2
-      values, the other locals (the repository's TODO units included) at most 5."""
+      values, the other locals (the repository's TODO units included) at most 5.
+    - ``force_scalarize_matrix=True``: matrices are split into scalars before reverse mode runs, not
+      after. Differentiated as matrices, TODO 7's ``R @ I0⁻¹ @ Rᵀ`` alone compiles for ~1.8 s (its
+      adjoint is one long block that Taichi's passes edit in quadratic time). Split, a ball's first
+      gradient compiles in ~8 s; whole, ~28 s (quick_compile: ~6 and ~9 s, and the split adjoint
+      runs ~3x slower without the CFG passes); the values agree to round-off."""
     from taichi.lang import impl
 
     config = impl.current_cfg()
@@ -87,26 +93,32 @@ class Pass:
         self.problem, self.units, self.frames, self.fused = problem, units, frames, fused
         self.substeps = problem.substeps
         B, N = problem.num_bodies, problem.num_particles
-        # Fields sized up (particles and frames to powers of two, at least the box's 5 planes: the
-        # extra ones are stand-ins no particle touches) and kept per process, so that scenes of one
-        # kind (law, scheme) and every call of a fit reuse one tape and its compiled kernels.
+        # Fields sized up (bodies, particles and frames to powers of two, at least the box's 5 planes:
+        # the extra ones are stand-ins no particle touches) and kept per process, so that scenes of
+        # one kind (law, scheme) and every call of a fit reuse one tape and its compiled kernels.
         P = max(len(problem.planes), PLANES_AT_LEAST)
         if checkpoint_frames is None:
-            checkpoint_frames = segment_frames(frames, self.substeps, _power_of_two(B, 1), _power_of_two(N, 64), P,
-                                               problem.materials)
+            checkpoint_frames = segment_frames(frames, self.substeps, _power_of_two(B, BODIES_AT_LEAST),
+                                               _power_of_two(N, 64), P, problem.materials)
         self.segment = max(1, min(checkpoint_frames, frames)) * self.substeps  # substeps per segment
         self.total = frames * self.substeps
         self.num_segments = -(-self.total // self.segment)
         steps = max(1, checkpoint_frames) * self.substeps + 1
-        key = (id(units), problem.scheme, problem.materials, P, steps, _power_of_two(B, 1),
+        key = (id(units), problem.scheme, problem.materials, P, _power_of_two(B, BODIES_AT_LEAST),
                _power_of_two(N, 64), _power_of_two(frames + 1, 64), len(problem.table))
-        if key not in _TAPES:
-            tape = Tape(steps, key[5], key[6], P, key[7] - 1, len(problem.table), problem.materials)
-            serial = key[6] <= SERIAL_PARTICLES
-            _TAPES[key] = (tape, kernel_module.build(tape, units, problem.scheme, problem.materials, P, serial))
-        self.tape, self.k = _TAPES[key]
-        self.serial = key[6] <= SERIAL_PARTICLES
-        self.options = dict(cfg_optimization=True, ad_stack_size=AD_STACK_SPARE + P)  # compile_options
+        # A tape of more steps serves shorter segments too (its kernels take a segment's length): a
+        # run in segments takes one of its kind that the process holds, compiling nothing more.
+        held = [s for k, s in _TAPES if k == key and s >= steps]
+        if held:
+            steps = min(held)
+        else:
+            tape = Tape(steps, key[4], key[5], P, key[6] - 1, len(problem.table), problem.materials)
+            _TAPES[key, steps] = (tape, kernel_module.build(tape, units, problem.scheme, problem.materials, P,
+                                                            key[5] <= SERIAL_PARTICLES))
+        self.tape, self.k = _TAPES[key, steps]
+        self.serial = key[5] <= SERIAL_PARTICLES
+        self.options = dict(cfg_optimization=True, ad_stack_size=AD_STACK_SPARE + P,  # compile_options
+                            force_scalarize_matrix=True)
         self.tape.load(problem)
         self.checkpoints: list = []
         self.seconds = dict(rerun=0.0, adjoint=0.0)  # of the last backward
@@ -167,9 +179,7 @@ class Pass:
         t, k, p = self.tape, self.k, self.problem
         B, N = p.num_bodies, p.num_particles
         k.clear(0, B, N, 2)
-        k.inertia(N)
-        k.invert(B)
-        k.init(B)
+        k.start(N, B)
         self.checkpoints = []
         for g in range(self.num_segments):
             if g > 0:
@@ -177,13 +187,8 @@ class Pass:
                 t.restore(0, B, N)
             if g < self.num_segments - 1:  # the backward re-runs every segment but the last
                 t.save(0, B, N)
-            self.checkpoints.append([f.to_numpy() for f in self._checkpoint_fields()]
-                                    if g < self.num_segments - 1 else [])
+            self.checkpoints.append(t.checkpoint() if g < self.num_segments - 1 else None)
             self._run_segment(g, True)
-
-    def _checkpoint_fields(self):
-        t = self.tape
-        return (t.c_x, t.c_q, t.c_P, t.c_L, t.c_w, t.c_slip)
 
     def rows(self) -> dict:
         return self.tape.rows(self.frames, self.problem.num_bodies)
@@ -211,8 +216,7 @@ class Pass:
         for g in reversed(range(self.num_segments)):
             start = time.perf_counter()
             if g < self.num_segments - 1:  # the last segment is still on the tape
-                for field, value in zip(self._checkpoint_fields(), self.checkpoints[g]):
-                    field.from_numpy(value)
+                t.set_checkpoint(self.checkpoints[g])
                 t.restore(0, B, N)
                 self._run_segment(g, False)
             self.seconds["rerun"] += time.perf_counter() - start
@@ -220,8 +224,7 @@ class Pass:
             end = self._length(g)
             k.clear(end, B, N, 1)
             if g < self.num_segments - 1:
-                for field, value in zip(self._checkpoint_fields(), self._carried):
-                    field.from_numpy(value)
+                t.set_checkpoint(self._carried)
                 t.restore_grad(end, B, N)
             if self.serial and self.fused:
                 k.advance.grad(0, end, N, B, dt, g * self.segment, self.substeps, 1)
@@ -236,8 +239,6 @@ class Pass:
                         k.substep.grad(s - 1, N, B, dt)
             if g > 0:
                 t.save_grad(0, B, N)
-                self._carried = [f.to_numpy() for f in self._checkpoint_fields()]
+                self._carried = t.checkpoint()
             self.seconds["adjoint"] += time.perf_counter() - start
-        k.init.grad(B)
-        k.invert.grad(B)
-        k.inertia.grad(N)
+        k.start.grad(N, B)

@@ -24,8 +24,9 @@ gradients): M = m n, I0 = Σ TODO 1, I0inv.
 import numpy as np
 import taichi as ti
 
+from .transfers import ROW_COLUMNS, copier, layout, padded, row_kernels
+
 STATE = ("x", "q", "P", "L", "w")
-ROW_COLUMNS = dict(x=(0, 3), q=(3, 7), v=(7, 10), omega=(10, 13), P=(13, 16), L=(16, 19))  # Tape.seed
 
 
 class Tape:
@@ -136,25 +137,30 @@ class Tape:
     def row_fields(self):
         return dict(x=self.r_x, q=self.r_q, v=self.r_v, omega=self.r_w, P=self.r_P, L=self.r_L)
 
+    FIXED = ("r0", "r0_mass", "particle_body", "body_count", "radius", "plane", "table")
+    CHECKPOINT = ("c_x", "c_q", "c_P", "c_L", "c_w", "c_slip")
+
     def load(self, problem) -> None:
         """The problem's fixed data and parameter values into the fields (padded past B, N, P)."""
-        put(self.r0, problem.r0)
-        put(self.r0_mass, problem.r0_mass)
-        put(self.particle_body, problem.particle_body.astype(np.int32))
-        put(self.body_count, problem.body_count.astype(np.int32))
-        put(self.radius, problem.radius)
         planes = np.zeros((self.planes, 4))
         planes[:] = (0.0, 1.0, 0.0, -1e30)  # stand-ins no particle is behind
         planes[:len(problem.planes)] = problem.planes
-        self.plane.from_numpy(planes)
-        put(self.table, problem.table)
+        values = dict(plane=planes, **{name: padded(getattr(self, name), getattr(problem, name))
+                                       for name in self.FIXED if name != "plane"})
         for name, value in problem.values.items():
             field = getattr(self, name)
-            value = np.asarray(value, np.float64)
-            if field.shape == ():
-                field[None] = value.tolist() if value.ndim else float(value)
-            else:
-                put(field, value, -1.0 if name in ("e_p", "mu_p") else (1.0 if name == "m" else 0.0))
+            fill = -1.0 if name in ("e_p", "mu_p") else (1.0 if name == "m" else 0.0)
+            values[name] = np.asarray(value, np.float64) if field.shape == () else padded(field, value, fill)
+        self._transfers()["load"](np.concatenate([np.ravel(values[name]) for name in self.FIXED + self.PARAMETERS]))
+
+    def checkpoint(self) -> np.ndarray:
+        """The checkpoint fields (c_*: a segment's first state, or the adjoint carried), flat."""
+        out = np.zeros(self._transfers()["checkpoint_size"])
+        self._transfers()["checkpoint_out"](out)
+        return out
+
+    def set_checkpoint(self, flat: np.ndarray) -> None:
+        self._transfers()["checkpoint_in"](flat)
 
     def clear_parameter_grads(self) -> None:
         self._transfers()["zero"]()
@@ -176,82 +182,24 @@ class Tape:
 
     def parameter_grads(self) -> dict:
         """The adjoint of each of PARAMETERS, in its field's shape (float64)."""
-        fields = [getattr(self, name) for name in self.PARAMETERS]
-        sizes = [int(np.prod(f.shape)) * getattr(f, "n", 1) for f in fields]
-        flat = np.zeros(sum(sizes))
+        entries, size = layout(getattr(self, name).grad for name in self.PARAMETERS)
+        flat = np.zeros(size)
         self._transfers()["grads"](flat)
-        out, start = {}, 0
-        for name, f, size in zip(self.PARAMETERS, fields, sizes):
-            out[name] = flat[start:start + size].reshape(f.shape + ((f.n,) if hasattr(f, "n") else ()))
-            start += size
+        out = {}
+        for name, (f, start, shape, n) in zip(self.PARAMETERS, entries):
+            out[name] = flat[start:start + int(np.prod(shape)) * max(n, 1)].reshape(shape + ((n,) if n else ()))
         return out
 
     def _transfers(self) -> dict:
-        """One launch each, serial (a few hundred numbers: a field's to_numpy or fill is a launch on
-        the thread pool apiece): zero the parameters' adjoints, seed the rows' adjoints, read the
-        rows, read the parameters' adjoints."""
-        if hasattr(self, "_kernels"):
-            return self._kernels
-        zeroed = [getattr(self, name).grad for name in self.PARAMETERS + self.DERIVED]
-        rows = [(f, ROW_COLUMNS[key][0], f.n) for key, f in self.row_fields().items()]
-        grads, start = [], 0
-        for name in self.PARAMETERS:
-            f = getattr(self, name)
-            grads.append((f.grad, start, f.shape, getattr(f, "n", 0)))
-            start += int(np.prod(f.shape)) * getattr(f, "n", 1)
-
-        @ti.kernel
-        def zero():
-            for f in ti.static(zeroed):
-                if ti.static(f.shape == ()):
-                    f[None] = ti.zero(f[None])
-                else:
-                    ti.loop_config(serialize=True)
-                    for I in ti.grouped(ti.ndrange(*f.shape)):
-                        f[I] = ti.zero(f[I])
-
-        @ti.kernel
-        def seed(a: ti.types.ndarray()):
-            ti.loop_config(serialize=True)
-            for f, b in ti.ndrange(a.shape[0], a.shape[1]):
-                for field, c0, n in ti.static(rows):
-                    field.grad[f, b] = ti.Vector([a[f, b, c0 + c] for c in ti.static(range(n))])
-
-        @ti.kernel
-        def read_rows(a: ti.types.ndarray()):
-            ti.loop_config(serialize=True)
-            for f, b in ti.ndrange(a.shape[0], a.shape[1]):
-                for field, c0, n in ti.static(rows):
-                    for c in ti.static(range(n)):
-                        a[f, b, c0 + c] = field[f, b][c]
-
-        @ti.kernel
-        def read_grads(a: ti.types.ndarray()):
-            for grad, c0, shape, n in ti.static(grads):  # 0-D or 1-D, scalars or vectors (n)
-                if ti.static(shape == () and n == 0):
-                    a[c0] = grad[None]
-                elif ti.static(shape == ()):
-                    for c in ti.static(range(n)):
-                        a[c0 + c] = grad[None][c]
-                else:
-                    ti.loop_config(serialize=True)
-                    for i in range(shape[0]):
-                        if ti.static(n == 0):
-                            a[c0 + i] = grad[i]
-                        else:
-                            for c in ti.static(range(n)):
-                                a[c0 + i * n + c] = grad[i][c]
-
-        self._kernels = dict(zero=zero, seed=seed, rows=read_rows, grads=read_grads)
+        """The copies between host and fields (rigid.diff.transfers), built on first use: load,
+        zero the parameters' adjoints, seed the rows' adjoints, read the rows, read the
+        parameters' adjoints, a checkpoint out and in."""
+        if not hasattr(self, "_kernels"):
+            field = lambda names: [getattr(self, name) for name in names]
+            checkpoint, size = layout(field(self.CHECKPOINT))
+            self._kernels = dict(
+                row_kernels(self.row_fields(), [f.grad for f in field(self.PARAMETERS + self.DERIVED)]),
+                load=copier(layout(field(self.FIXED + self.PARAMETERS))[0], True),
+                grads=copier(layout(f.grad for f in field(self.PARAMETERS))[0], False),
+                checkpoint_out=copier(checkpoint, False), checkpoint_in=copier(checkpoint, True), checkpoint_size=size)
         return self._kernels
-
-
-def put(field, array, fill=0.0) -> None:
-    """``array`` (leading axis: bodies, particles or planes) into the leading part of the 1-D
-    ``field``; the rest is ``fill`` (a quaternion's: the identity)."""
-    array = np.asarray(array)
-    full = np.full((field.shape[0],) + array.shape[1:], fill, array.dtype)
-    if array.ndim == 2 and array.shape[1] == 4:
-        full[:] = (1.0, 0.0, 0.0, 0.0)
-    full[:len(array)] = array
-    field.from_numpy(full)
