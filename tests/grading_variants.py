@@ -113,6 +113,9 @@ APPENDED = {
 }
 # TODO 6 loops forever at run time (a realistic "while |q| != 1" slip).
 HANG_IN_TODO6 = {L_NORM: "while new_q.norm() > 0.5:\n        new_q = new_q * 1.0"}
+# One file for what costs a file only its own points, or nothing: the hang in TODO 6, a syntax error in
+# TODO 4 (--check cannot import it), and flood_and_writes at import (each child of the file does it).
+HANG_SYNTAX_FLOOD = "hang6_syntax4_flood"
 
 
 def substitute(replacements: dict) -> str:
@@ -139,4 +142,6 @@ def make(name: str) -> str:
         return SOLUTION + APPENDED[name]
     if name == "hang_in_todo6":
         return substitute(HANG_IN_TODO6)
+    if name == HANG_SYNTAX_FLOOD:
+        return substitute({**HANG_IN_TODO6, **SUBSTITUTIONS["t4_syntax_error"]}) + APPENDED["flood_and_writes"]
     return substitute(SUBSTITUTIONS[name])
