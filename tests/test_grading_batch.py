@@ -201,9 +201,9 @@ def test_csv_has_a_row_per_submission_and_a_column_per_todo(batches):
                              "max_total", "feedback"]
     alice = next(r for r in rows if r["submission"].endswith(".zip"))
     assert (alice["uid"], alice["name"], alice["total"]) == ("3035123456", "alice", "90")
-    wrong = next(r for r in rows if r["submission"].endswith(f"{combined_file('t2_sign')}.py"))  # TODOs 2, 4, 6 lost
-    assert (wrong["todo1"], wrong["todo2"], wrong["todo4"], wrong["todo6"], wrong["total"]) == ("15", "0", "0", "0", "50")
-    assert all(f"TODO {k}" in wrong["feedback"] for k in (2, 4, 6)) and "TODO 1" not in wrong["feedback"]
+    wrong = next(r for r in rows if r["submission"].endswith(f"{combined_file('t3_sign')}.py"))  # TODOs 1, 3, 5, 7 lost
+    assert (wrong["todo1"], wrong["todo2"], wrong["todo3"], wrong["todo4"], wrong["total"]) == ("0", "10", "0", "15", "40")
+    assert all(f"TODO {k}" in wrong["feedback"] for k in (1, 3, 5, 7)) and "TODO 2" not in wrong["feedback"]
     assert "points per TODO" in batches["stdout"]["main"] and "total 90" in batches["stdout"]["main"]
     print(f"three batches ({len(rows)} + {len(MISBEHAVING)} + {len(ORIGINAL) + 1} submissions): "
           f"{batches['elapsed']:.1f} s")
