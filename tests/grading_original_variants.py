@@ -132,6 +132,23 @@ SUBSTITUTIONS = {
         L7I: "    body_inverse_inertia = body_rotation[None].transpose() @ body_origin_inverse_inertia[None] @ "
              "body_rotation[None]\n",
         'file_path = "sphere.obj"': 'file_path = "dan_brick.obj"'}),
+    # bonus_inside's terms in bonus_friction's file (its own name total_force, TODO 5 position-first)
+    "bonus_inside_friction": ("solved", {
+        "particle_mass = 1\n": "particle_mass = 0.5\n",
+        "initial_velocity = ti.Vector([0.0, 0.0, 0.0])": "initial_velocity = ti.Vector([1.0, 0.0, -0.5])",
+        "initial_angular_velocity = ti.Vector([0.0, 0, 0.0])": "initial_angular_velocity = ti.Vector([0.0, 3.0, 1.0])",
+        'file_path = "sphere.obj"': 'file_path = "my_bunny.obj"',
+        "dt = 1e-3\n": "dt = 1e-3\nair_drag = 0.02\nlinear_damping = 0.5\n",
+        L2: "        particle_force[i] = particle_mass * gravity - air_drag * particle_velocities[i]\n",
+        "    body_force = ti.Vector([0.0, 0.0, 0.0])\n": "    total_force = ti.Vector([0.0, 0.0, 0.0])\n",
+        L3: "        total_force += particle_force[i]\n",
+        L5V + L5X: L5X + L5V.replace("body_force", "total_force")
+                   + "    body_velocity[None] -= dt * linear_damping * body_velocity[None]\n",
+        "    # update the rigid body\n": "    # damping of the whole body (bonus)\n"
+                                       "    total_force -= 1e-3 * velocity_damping_stiffness * body_velocity[None]\n\n"
+                                       "    # update the rigid body\n",
+        WALL_FLOOR: WALL_FLOOR + "            v_t = particle_velocities[i] - ti.Vector([0.0, particle_velocities[i][1], 0.0])\n"
+                                 "            particle_force[i] -= friction_stiffness * f_collision * v_t\n"}),
     # TODO 6 loops forever (the grader's time limit stops it; the other TODOs are graded in a fresh process)
     "hang_in_todo6": ("solved", {
         "    body_rotation_quaternion[None] += dt * d_q\n":
@@ -147,11 +164,12 @@ WRONG = {
     "t7_unrotated": {7: ["body-frame I0⁻¹"]},
     "t2_accumulates": {2: ["the force is accumulated across substeps", "assign, don't add"]},
     "syntax_error_todo4": {4: ["syntax error at line"]},
+    "hang_in_todo6": {6: ["the code under '# TODO 6:' did not finish within"]},  # the time limit (--timeout)
     "mistakes_a": {2: ["mass"], 4: ["cross product"], 6: ["twice the expected rate"]},
     "mistakes_b": {1: ["mass"], 3: ["sign"], 5: ["does not depend on Δt"], 7: ["order"]},
 }
 FULL = ("solved", "marker_variants", "layout", "black_formatted", "bonus_inside", "given_edits", "bonus_friction",
-        "missing_marker_3", "no_markers")
+        "missing_marker_3", "no_markers", "bonus_inside_friction")
 NOTES = {
     "bonus_inside": ["bonus", "air_drag", "linear_damping", "velocity_damping_stiffness"],
     "given_edits": ["given code", "substeps", "edits of the given code (they cost nothing: the grader runs them in "
@@ -160,6 +178,7 @@ NOTES = {
     "no_markers": ["TODO comments missing (TODOs 1, 2, 3, 4, 5, 6, 7)"],
     "bonus_friction": ["my_bunny.obj"],
 }
+NOTES["bonus_inside_friction"] = NOTES["bonus_inside"] + NOTES["bonus_friction"]
 # Files that carry several of the variants above at once, in TODOs (or given code) of their own, as
 # mistakes_a and mistakes_b do: each part's TODO must lose (or keep) its points with the same words,
 # and the file must carry every part's notes. A batch grades one such file where it would grade each
@@ -170,6 +189,8 @@ COMBINED = {
     "unknown_mistakes_given_edits": ("t1_outer_plus_mass_identity", "t2_accumulates", "t3_extra_mass", "t7_drops_old_L",
                                      "given_edits"),
     "marker_syntax_unrotated": ("missing_marker_3", "no_markers", "syntax_error_todo4", "t7_unrotated"),
+    "unknown_mistakes_edits_hang6": ("unknown_mistakes_given_edits", "hang_in_todo6"),  # a combined file as a part
+    "mistakes_ab": ("mistakes_a", "mistakes_b"),  # every TODO wrong, each its own way
 }
 for _name, _parts in COMBINED.items():
     SUBSTITUTIONS[_name] = ("solved", {old: new for part in _parts for old, new in SUBSTITUTIONS[part][1].items()})

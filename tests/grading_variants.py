@@ -86,15 +86,14 @@ WRONG = {
 }
 CORRECT = ("ok_alt_a", "ok_alt_b")
 # The wrong variants graded end to end (test_grading_batch.py), several to a file: one mistake in
-# each of TODOs 1, 3, 5, 7 or 2, 4, 6, each TODO checked on its own, so every mistake must still
-# cost exactly its TODO with its message, and the TODOs between them keep full marks. A graded
-# file costs ~2 CPU-s (it compiles the engine with its units), so 14 one-mistake files cost
-# 10 more gradings than these 4 and show no more.
+# each of several TODOs, with right TODOs between them, each TODO checked on its own, so every
+# mistake must still cost exactly its TODO with its message, and the right TODOs keep full marks.
+# A graded file costs ~2 CPU-s (it compiles the engine with its units), so 14 one-mistake files
+# cost 11 more gradings than these 3 and show no more.
 COMBINED = {
     "mistakes_1357_a": ("t1_no_mass", "t3_sign", "t5_no_dt", "t7_order"),
-    "mistakes_246_a": ("t2_no_mass", "t4_swapped_cross", "t6_no_half"),
-    "mistakes_1357_b": ("t1_no_identity", "t3_drops_z", "t5_force_over_mass", "t7_old_L"),
-    "mistakes_246_b": ("t2_sign", "t4_unrotated", "t6_no_renormalisation"),
+    "mistakes_12346": ("t1_no_identity", "t2_no_mass", "t3_drops_z", "t4_swapped_cross", "t6_no_half"),
+    "mistakes_24567": ("t2_sign", "t4_unrotated", "t5_force_over_mass", "t6_no_renormalisation", "t7_old_L"),
 }
 assert sorted(n for parts in COMBINED.values() for n in parts) == sorted(WRONG)
 assert all(len({WRONG[n][0] for n in parts}) == len(parts) for parts in COMBINED.values())  # a TODO each
@@ -113,6 +112,9 @@ APPENDED = {
 }
 # TODO 6 loops forever at run time (a realistic "while |q| != 1" slip).
 HANG_IN_TODO6 = {L_NORM: "while new_q.norm() > 0.5:\n        new_q = new_q * 1.0"}
+# One file for what costs a file only its own points, or nothing: the hang in TODO 6, a syntax error in
+# TODO 4 (--check cannot import it), and flood_and_writes at import (each child of the file does it).
+HANG_SYNTAX_FLOOD = "hang6_syntax4_flood"
 
 
 def substitute(replacements: dict) -> str:
@@ -139,4 +141,6 @@ def make(name: str) -> str:
         return SOLUTION + APPENDED[name]
     if name == "hang_in_todo6":
         return substitute(HANG_IN_TODO6)
+    if name == HANG_SYNTAX_FLOOD:
+        return substitute({**HANG_IN_TODO6, **SUBSTITUTIONS["t4_syntax_error"]}) + APPENDED["flood_and_writes"]
     return substitute(SUBSTITUTIONS[name])

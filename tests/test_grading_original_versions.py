@@ -176,3 +176,24 @@ def test_does_not_run_is_said_only_when_the_students_own_file_fails(monkeypatch,
     own = Run(None, "ZeroDivisionError: division by zero (x.py, line 12)")
     assert child._does_not_run(model, tmp_path, "…") == "the file does not run: ZeroDivisionError: division by " \
                                                          "zero (x.py, line 12)"
+
+
+def test_the_first_version_guesses_todo_5s_order_and_a_version_is_run_once(monkeypatch, tmp_path):
+    """child.likely_form picks the first version's order of TODO 5 (so that it doubles as the reference run);
+    runner.run reuses a run of the same text, but a failed one only where its error names the same lines."""
+    import numpy as np
+    from rigid.grading.original import runner
+    from rigid.grading.original.child import likely_form
+    from rigid.grading.original.warm import solved_version
+
+    assert [likely_form(FileModel(make(n))) for n in ("solved", "black_formatted", "bonus_friction", "unsolved")] == \
+        ["velocity-first", "velocity-first", "position-first", "position-first"]
+    model = FileModel(solved_version(make("unsolved")))  # the reference lines as the student's code
+    reference, own = model.build((), "velocity-first"), model.build(range(1, 8), "velocity-first")
+    assert reference.text == own.text and reference.origin != own.origin
+    for rows, runs in ((np.zeros((31, 16)), 1), (None, 2)):
+        ran = []
+        monkeypatch.setattr(runner, "_DONE", {})
+        monkeypatch.setattr(runner, "_run", lambda variant, path, frames: ran.append(path) or runner.Run(rows, "x"))
+        results = [runner.run(v, tmp_path / f"v{i}.py") for i, v in enumerate((reference, reference, own))]
+        assert len(ran) == runs and results[0] is results[1] and (results[2] is results[0]) == (runs == 1), rows

@@ -10,14 +10,12 @@ code: the cache holds machine code, and a submission's child writes into a priva
 The TA's handout (unsolved, as given to students) is trusted: ``prepare_original`` fills its
 TODOs with the reference lines, grades that like a submission (it must score full marks: the
 handout is then one the grader reads right) and keeps the kernels compiled on the way, beside
-the reference's cache, once per grader version and handout. One grading covers both orders
-of TODO 5 but for one run: its own first version (the harness) has the reference lines in
-the default order, position-first, which are also the kernels of a position-first file's
-reference run with its own parameters; the version graded is velocity-first (the 2023
-hint's order), so its reference runs are those of a velocity-first file. Only a
-position-first file's run with the other parameters compiles afresh. A submission of the
-original format starts from that cache: 14 such files with --jobs 2 on 2 cores (a noisy
-machine), 132 and 105 CPU-s without it, 80-96 with it (the first run's one grading included).
+the reference's cache, once per grader version and handout. The version graded is
+velocity-first (the 2023 hint's order), so its reference runs are those of a velocity-first
+file, whose first version (the harness, child.likely_form) has its TODO 5 in that order too;
+a position-first file's reference runs compile afresh. A submission of the original format
+starts from that cache: 14 such files with --jobs 2 on 2 cores (a noisy machine), 132 and
+105 CPU-s without it, 80-96 with it (the first run's one grading included).
 """
 from __future__ import annotations
 
