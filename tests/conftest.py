@@ -45,7 +45,8 @@ SOLUTION = ROOT / "rigid_body_dynamic.py"
 # The in-process runs of the engine go together, in one worker: Taichi writes its disk cache only
 # when a process exits, so two workers running the same scenes, piles or contact laws would each
 # compile the same kernels (a pile's set costs ~3 CPU-s), and the bit checks of the many-body speed
-# paths build the same small piles (serial, parallel, parts, refresh, chunks).
+# paths build the same small piles (serial, parallel, parts, refresh, chunks); the CPU's references
+# of the Vulkan and GPU-pipeline tests are runs of the same scenes.
 GROUPS = {
     **dict.fromkeys(("test_physics_accuracy", "test_physics_energy", "test_physics_inertia",
                      "test_physics_momentum", "test_physics_rotation"), "physics_fp64"),
@@ -55,14 +56,15 @@ GROUPS = {
                      "test_skin", "test_neighbours", "test_refresh", "test_list_growth", "test_pair_parts",
                      "test_frame_chunks", "test_parallel_path",
                      "test_contact_materials", "test_sleep_materials", "test_pair_friction", "test_angle_of_repose",
-                     "test_mesh_contact", "test_static_faces", "test_forces", "test_worlds", "test_sleep"), "engine"),
+                     "test_mesh_contact", "test_static_faces", "test_forces", "test_worlds", "test_sleep",
+                     "test_backends", "test_gpu_pipeline"), "engine"),
 }
 # Groups by measured CPU time, longest first: xdist hands them out in collection order, each
 # worker holding about two tests ahead, so the long ones start first and both workers end on
 # short ones. The in-process "engine" group runs on one worker while the other takes the
 # subprocess-bound files (the grading batch, the float64 gradients, Vulkan, sweeps); the rest
 # follow in file order.
-ORDER = ("engine", "test_grading_batch", "test_gradients", "test_backends", "test_sweep", "physics_fp64",
+ORDER = ("engine", "test_grading_batch", "test_gradients", "test_sweep", "physics_fp64",
          "test_notebook", "test_view_memory", "test_export", "test_view_raster",
          "test_render", "test_window", "test_grading_handout")
 

@@ -10,7 +10,7 @@ Off a CPU (schedule.on_cpu() is False) the engine compiles another substep from 
   split_substep.py's launches (the flag is not read through its address: IntCell.on_cpu).
 
 Those switches are flipped here, and the kernels compiled afresh for them. The run must follow
-the serial schedule to float32 round-off (its energies too), repeat bit for bit, and rebuild
+the CPU's serial schedule to float32 round-off (its energies too), repeat bit for bit, and rebuild
 its lists without a single partial rebuild; the motion test spread over threads must take the
 one-thread test's decisions. A broken GPU path (a pair lost by visit_all, a rebuild never gated
 in) would part from the serial run by whole contacts.
@@ -26,23 +26,31 @@ KEYS = ("x", "q", "v", "omega", "P", "L")
 
 
 @pytest.fixture
-def gpu_pipeline(monkeypatch):
-    """The engine's kernels compiled as for a GPU (in a kernel cache of this test's own)."""
+def as_on_a_gpu(monkeypatch):
+    """as_on_a_gpu(): from then on, the engine's kernels compiled as for a GPU (in a kernel cache of
+    this test's own)."""
     from rigid.engine import arrays, kernels, schedule
 
-    monkeypatch.setattr(schedule, "on_cpu", lambda: False)
-    monkeypatch.setattr(arrays.IntCell, "on_cpu", property(lambda self: False))
-    monkeypatch.setattr(kernels, "_CACHE", {})
+    def switch():
+        monkeypatch.setattr(schedule, "on_cpu", lambda: False)
+        monkeypatch.setattr(arrays.IntCell, "on_cpu", property(lambda self: False))
+        monkeypatch.setattr(kernels, "_CACHE", {})
+
+    return switch
 
 
-def test_the_gpu_pipeline_follows_the_serial_schedule(units, gpu_pipeline):
+def test_the_gpu_pipeline_follows_the_serial_schedule(units, as_on_a_gpu):
     from rigid.config import SimConfig
     from rigid.engine.launch import SplitLaunch
     from rigid.engine.broadphase_host import refreshes_so_far
     from rigid.engine.simulator import Simulator
 
     config = SimConfig(fp64=False, **PILE).validate()
-    serial = Simulator(config, units, schedule="serial").advance_frames(40)
+    # The reference: the CPU's serial schedule, as users run it (the kernels of the in-process
+    # "engine" group, conftest.GROUPS); then the GPU's pipeline.
+    reference = Simulator(config, units, schedule="serial")
+    serial = reference.advance_frames(40)
+    as_on_a_gpu()
     runs = []
     for _ in range(2):
         sim = Simulator(config, units, schedule="parallel")
@@ -55,7 +63,7 @@ def test_the_gpu_pipeline_follows_the_serial_schedule(units, gpu_pipeline):
         scale = np.abs(serial[key]).max()
         np.testing.assert_allclose(gpu[key], serial[key], rtol=0, atol=2e-4 * scale + 1e-6, err_msg=key)
     touching = serial["potential_energy"] + (serial["x"] @ np.asarray(config.gravity)
-                                             * Simulator(config, units).model.body_mass_np).sum(axis=1)
+                                             * reference.model.body_mass_np).sum(axis=1)
     assert touching.max() > 1e-3, "no contact: the comparison would be of free flight only"
     for key in ("kinetic_energy", "potential_energy"):  # the frame's energy summed in chunks
         np.testing.assert_allclose(gpu[key], serial[key], rtol=1e-3, atol=1e-3 * np.abs(serial[key]).max(), err_msg=key)
