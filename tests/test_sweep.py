@@ -24,14 +24,16 @@ VARY = ["--vary", "friction_stiffness=0.1,0.5", "--vary", "initial_velocity.x=2:
 ROW_KEYS = ("t", "x", "q", "v", "omega", "P", "L", "kinetic_energy", "potential_energy")
 
 
-def sweep_command(out, *extra, vary=VARY):
+def sweep_command(out, *extra, vary=VARY, workers=1):
+    """One worker unless the test is about several: each starts Taichi (~1.4 CPU-s). Two run side
+    by side in test_sweep_worlds (a batch each) and in the killed-worker test (its resume)."""
     return [sys.executable, "-m", "rigid", "sweep", str(SCENE), *vary, "--frames", str(FRAMES), "--out", str(out),
-            "--workers", "2", *extra]
+            "--workers", str(workers), *extra]
 
 
-def run_sweep(out, *extra, vary=VARY, timeout=300):
-    return subprocess.run(sweep_command(out, *extra, vary=vary), cwd=ROOT, capture_output=True, text=True,
-                          timeout=timeout)
+def run_sweep(out, *extra, vary=VARY, workers=1, timeout=300):
+    return subprocess.run(sweep_command(out, *extra, vary=vary, workers=workers), cwd=ROOT, capture_output=True,
+                          text=True, timeout=timeout)
 
 
 def index(out):
@@ -189,7 +191,7 @@ def _workers_of(pid: int) -> list[int]:
 def test_a_killed_worker_fails_its_runs_and_the_same_command_resumes(tmp_path):
     out = tmp_path / "sweep"
     vary = ["--vary", "friction_stiffness=0.1,0.2,0.3"]
-    proc = subprocess.Popen(sweep_command(out, vary=vary), cwd=ROOT, stdout=subprocess.PIPE,
+    proc = subprocess.Popen(sweep_command(out, vary=vary, workers=2), cwd=ROOT, stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True)
     with killed_at_exit(proc):
         deadline = time.monotonic() + 60
@@ -199,7 +201,7 @@ def test_a_killed_worker_fails_its_runs_and_the_same_command_resumes(tmp_path):
         os.kill(workers[0], signal.SIGKILL)  # while it starts Taichi: before any run is done
         _, err = proc.communicate(timeout=300)
     assert proc.returncode == 1, err[-3000:]
-    rows = index(out)
+    rows = index(out)  # the pool broke: both workers' runs failed, a fresh pool ran the third
     died = {r["run"] for r in rows if "worker process died" in r["status"]}
     ok = {r["run"] for r in rows if r["status"] == "ok"}
     assert len(died) == 2 and len(ok) == 1 and died | ok == {"run-0000", "run-0001", "run-0002"}, rows
@@ -207,7 +209,7 @@ def test_a_killed_worker_fails_its_runs_and_the_same_command_resumes(tmp_path):
     kept = {name: t for name, t in stamps(out).items() if name.startswith("runs/")}
     (out / "runs" / ".run-0000.partial.npz").write_bytes(b"half a file, as a killed driver leaves")
 
-    again = run_sweep(out, vary=vary)
+    again = run_sweep(out, vary=vary, workers=2)
     assert again.returncode == 0, again.stderr[-3000:]
     assert "1 kept from before, 2 to run" in again.stderr
     after = index(out)
@@ -217,47 +219,53 @@ def test_a_killed_worker_fails_its_runs_and_the_same_command_resumes(tmp_path):
     assert sorted(p.name for p in (out / "runs").iterdir()) == ["run-0000.npz", "run-0001.npz", "run-0002.npz"]
 
 
-def test_a_students_file_sweeps_with_its_own_units(tmp_path):
-    """``python rigid_body_dynamic.py sweep ...`` runs that file's TODOs, not the solution's: here a
-    TODO 2 with twice the gravity, checked against explicit Euler's free fall before any contact."""
-    student = tmp_path / "rigid_body_dynamic.py"
+@pytest.fixture(scope="module")
+def student_recorded(tmp_path_factory):
+    """``python rigid_body_dynamic.py sweep ... --record`` of a student's file whose TODO 2 has twice
+    the gravity, over the thrown sphere drawn small (resolution cannot vary): one sweep, one worker
+    starting Taichi, for the two tests below."""
+    folder = tmp_path_factory.mktemp("student")
+    student = folder / "rigid_body_dynamic.py"
     solved = (ROOT / "rigid_body_dynamic.py").read_text()
     assert solved.count("force = particle_mass * gravity") == 1
     student.write_text(solved.replace("force = particle_mass * gravity", "force = 2.0 * particle_mass * gravity"))
-    out = tmp_path / "sweep"
-    proc = subprocess.run([sys.executable, str(student), "sweep", str(SCENE), "--vary", "drag=0", "--frames", "5",
-                           "--out", str(out), "--workers", "1"], cwd=tmp_path, capture_output=True, text=True,
-                          timeout=300)
+    scene = folder / "small.toml"
+    scene.write_text(SCENE.read_text().replace('"../sphere.obj"', repr(str(ROOT / "assets" / "sphere.obj")))
+                     + "resolution = [96, 64]\n")
+    out = folder / "sweep"
+    proc = subprocess.run([sys.executable, str(student), "sweep", str(scene), "--vary", "drag=0,0.5", "--frames", "5",
+                           "--out", str(out), "--workers", "1", "--record"], cwd=folder, capture_output=True,
+                          text=True, timeout=300)
     assert proc.returncode == 0, proc.stderr[-3000:]
-    d = np.load(out / "runs" / "run-0000.npz")
+    return out
+
+
+def test_a_students_file_sweeps_with_its_own_units(student_recorded):
+    """The sweep runs that file's TODOs, not the solution's: checked against explicit Euler's free
+    fall with twice the gravity before any contact (run-0000: no drag)."""
+    assert index(student_recorded)[0]["drag"] == "0.0"
+    d = np.load(student_recorded / "runs" / "run-0000.npz")
     k, dt = 5 * int(d["substeps"]), float(d["dt"])  # x_k = x0 + v0 k dt + g dt² k(k-1)/2
     assert d["x"][5, 1] == pytest.approx(0.2 + 2.0 * k * dt - 2 * 9.8 * dt * dt * k * (k - 1) / 2, abs=1e-4)
 
 
-def test_record_writes_each_runs_video_beside_its_npz(tmp_path):
+def test_record_writes_each_runs_video_beside_its_npz(student_recorded):
     import av
 
-    scene = tmp_path / "small.toml"  # the thrown sphere, drawn small (resolution cannot vary)
-    scene.write_text(SCENE.read_text().replace('"../sphere.obj"', repr(str(ROOT / "assets" / "sphere.obj")))
-                     + "resolution = [96, 64]\n")
-    out = tmp_path / "sweep"
-    proc = subprocess.run([sys.executable, "-m", "rigid", "sweep", str(scene), "--vary", "drag=0,0.5",
-                           "--frames", "5", "--out", str(out), "--workers", "1", "--record"],
-                          cwd=ROOT, capture_output=True, text=True, timeout=300)
-    assert proc.returncode == 0, proc.stderr[-3000:]
     for run in ("run-0000", "run-0001"):
-        with av.open(str(out / "runs" / f"{run}.mp4")) as video:
+        with av.open(str(student_recorded / "runs" / f"{run}.mp4")) as video:
             stream = video.streams.video[0]
             assert (stream.width, stream.height) == (96, 64)
             assert sum(1 for _ in video.decode(stream)) == 6  # frame 0, then one per simulated frame
-        assert np.load(out / "runs" / f"{run}.npz")["x"].shape == (6, 3)
+        assert np.load(student_recorded / "runs" / f"{run}.npz")["x"].shape == (6, 3)
 
 
 def test_ctrl_c_keeps_the_finished_runs_and_leaves_only_complete_files(tmp_path):
     """Ctrl-C in a terminal reaches the driver and its workers (one process group) mid-sweep."""
     out = tmp_path / "sweep"
-    # Volume particles (~0.7 s a run once a worker is warm; a lone vertex sphere takes ~50 ms): when
-    # the first run's file appears, the other worker is mid-run and one run waits.
+    # Volume particles (~0.2 s a run of 500 frames once the worker is warm, a lone vertex sphere ~20 ms):
+    # when the first run's file appears, the worker is mid-way through the second run and two runs
+    # wait, so the Ctrl-C lands ~0.6 s before the sweep would end.
     command = sweep_command(out, vary=["--vary", "particles=volume", "--vary", "friction_stiffness=0.1,0.2,0.3,0.4"])
     command[command.index("--frames") + 1] = "500"
     proc = subprocess.Popen(command, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,

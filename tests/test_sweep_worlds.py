@@ -15,7 +15,7 @@ def test_a_sweep_of_throws_runs_as_worlds_and_writes_each_runs_own_bytes(tmp_pat
     from rigid.engine.simulator import Simulator
     from rigid.run.runner import run_frames
 
-    out = tmp_path / "sweep"
+    out = tmp_path / "sweep"  # two workers side by side, a batch each
     proc = subprocess.run([sys.executable, "-m", "rigid", "sweep", str(SCENE), "--vary", "initial_velocity.x=1:3:3",
                            "--vary", "initial_angular_velocity.y=0,4", "--frames", str(FRAMES), "--out", str(out),
                            "--workers", "2"], cwd=ROOT, capture_output=True, text=True, timeout=300)

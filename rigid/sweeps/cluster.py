@@ -5,8 +5,9 @@ processes for the next task, so each starts Taichi once and reuses its kernels, 
 worker does. Results (the NPZ's bytes) come back to the driver, which writes them; so the
 nodes need this package and the scene's meshes at the same paths (a shared file system, or
 the package installed there), never the output folder. ``local`` starts a cluster on this
-machine for the sweep (``--workers`` CPUs) and stops it afterwards; an address joins a
-running one (``ray start --head`` prints it) and leaves it running.
+machine for the sweep (``--workers`` CPUs, no more than the sweep has tasks: Ray starts a
+worker process per CPU) and stops it afterwards; an address joins a running one
+(``ray start --head`` prints it) and leaves it running.
 """
 from __future__ import annotations
 

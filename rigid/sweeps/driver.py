@@ -54,14 +54,15 @@ def sweep(scene, vary=(), frames: int = None, out=None, seeds: int = 1, workers:
         check_ray(ray)
     folder = SweepFolder(out, runs, [v.key for v in varies], scene_text, frames, record)
     rows = folder.check()  # nothing is written before here, nor before Ray has started or joined
-    todo = [r for r in runs if r.name not in rows]
-    with _cluster(ray, workers, bool(todo)) as cluster:
+    tasks = [dict(name=r.name, config=r.config, frames=frames, record=record, units=units_file,
+                  quick_compile=os.environ.get("RIGID_QUICK_COMPILE") == "1")  # rigid.runtime's, for every worker
+             for r in runs if r.name not in rows]
+    if batchable(base, [t["config"] for t in tasks], record):  # runs that differ only in their bodies' starts
+        tasks = batches(tasks, workers)
+    # A local Ray cluster of no more CPUs than tasks: Ray starts a worker process per CPU, whether
+    # a task comes to it or not (the local pool already starts no more workers than tasks).
+    with _cluster(ray, min(workers, len(tasks)), bool(tasks)) as cluster:
         folder.prepare()
-        tasks = [dict(name=r.name, config=r.config, frames=frames, record=record, units=units_file,
-                      quick_compile=os.environ.get("RIGID_QUICK_COMPILE") == "1")  # rigid.runtime's, for every worker
-                 for r in todo]
-        if batchable(base, [t["config"] for t in tasks], record):  # runs that differ only in their bodies' starts
-            tasks = batches(tasks, workers)
         _run(folder, runs, rows, tasks, frames, workers, cluster, log)
     return [_typed(r, rows.get(r.name) or folder.row(r)) for r in runs]
 
