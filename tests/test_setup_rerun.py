@@ -4,7 +4,6 @@ neither waits for npm nor asks it again (it took 71 s each run offline). Runs se
 test_setup.py's stand-in project. The venv borrows pip from the interpreter it was made from
 (--system-site-packages, --without-pip): setup.sh runs "$VPY -m pip" either way, and installing a
 pip of its own (ensurepip) would cost the test more CPU than the rest of it."""
-import os
 import subprocess
 import sys
 import time
