@@ -16,7 +16,8 @@ from rigid.grading.handout import make_handout, solution_lines
 
 @pytest.fixture(scope="module")
 def handout(tmp_path_factory):
-    out = tmp_path_factory.mktemp("handout") / "rigid_body_dynamic.py"
+    # Into folders that do not exist yet, as the README writes it in a fresh clone.
+    out = tmp_path_factory.mktemp("handout") / "handout" / "deeper" / "rigid_body_dynamic.py"
     proc = subprocess.run([sys.executable, str(ROOT / "scripts" / "make_handout.py"), str(out)],
                           capture_output=True, text=True, timeout=60)
     assert proc.returncode == 0, proc.stderr
@@ -56,14 +57,7 @@ def check(path, cwd):
                           text=True, timeout=300)
 
 
-def test_self_check_of_the_handout_and_the_solution(handout):
-    proc = check(handout, handout.parent)
-    lines = proc.stdout.splitlines()
-    assert proc.returncode == 1, proc.stderr
-    todo_lines = [line for line in lines if line.startswith(("✓", "✗"))]
-    assert [line[:9] for line in todo_lines] == [f"✗ TODO {k}:" for k in range(1, 8)]
-    assert all("not done" in line and "placeholder" in line for line in todo_lines)
-    assert "0 of 7 TODOs pass" in lines[-1]
+def test_self_check_of_the_solution_with_the_repositorys_answers():
     proc = check(SOLUTION, ROOT)
     assert proc.returncode == 0, proc.stdout + proc.stderr
     assert sum(line.startswith("✓ TODO") and "simulation agrees" in line for line in proc.stdout.splitlines()) == 7
@@ -103,18 +97,15 @@ def test_bad_markers_are_one_line_errors():
         make_handout(solution.replace("# TODO 6:", "# TO DO 6:").replace("# END TODO 6", ""))
 
 
-def test_make_handout_creates_the_missing_folder(tmp_path):
-    out = tmp_path / "handout" / "deeper" / "rigid_body_dynamic.py"  # as the README writes it, in a fresh clone
-    proc = subprocess.run([sys.executable, str(ROOT / "scripts" / "make_handout.py"), str(out)],
-                          capture_output=True, text=True, timeout=300)
-    assert proc.returncode == 0, proc.stderr
-    assert out.is_file() and (out.parent / answers.FILE_NAME).is_file()
+def test_make_handout_creates_the_missing_folder(handout):
+    assert handout.parent.name == "deeper" and handout.is_file() and handout.with_name(answers.FILE_NAME).is_file()
 
 
-def test_bundle_runs_check_in_a_fresh_venv(tmp_path):
+def test_bundle_runs_check_in_a_fresh_venv(handout, tmp_path):
     """make_handout.py --bundle: unzipped in an empty folder, with a fresh venv (its packages from the
     system's site-packages, none of this repository), the handout's --check runs and fails every TODO, and
-    the solution put in its place passes all seven with the bundle's own rigid/."""
+    the solution put in its place passes all seven with the bundle's own rigid/. The bundle's handout and
+    answers are make_handout.py OUT.py's (the same bytes, the same numbers): this --check is theirs too."""
     import zipfile
 
     out = tmp_path / "a3.zip"
@@ -133,10 +124,18 @@ def test_bundle_runs_check_in_a_fresh_venv(tmp_path):
     where = subprocess.run([str(python), "-c", "import rigid; print(rigid.__file__)"], cwd=folder, env=env,
                            capture_output=True, text=True, timeout=60)
     assert where.stdout.strip().startswith(str(folder)), where.stdout + where.stderr  # the bundle's rigid/
-    check = subprocess.run([str(python), "rigid_body_dynamic.py", "--check"], cwd=folder, env=env,
-                           capture_output=True, text=True, timeout=300)
+    assert (folder / "rigid_body_dynamic.py").read_bytes() == handout.read_bytes()
+    with np.load(folder / answers.FILE_NAME) as bundled, np.load(handout.with_name(answers.FILE_NAME)) as beside:
+        assert sorted(bundled.files) == sorted(beside.files)
+        assert all(np.array_equal(bundled[key], beside[key]) for key in beside.files)
+    check = subprocess.run([str(python), "rigid_body_dynamic.py", "--check"], cwd=folder,
+                           env=dict(env, PYTHONIOENCODING="utf-8"), capture_output=True, text=True, timeout=300)
+    lines = check.stdout.splitlines()
     assert check.returncode == 1, check.stderr
-    assert check.stdout.count("not done") == 7 and "0 of 7 TODOs pass" in check.stdout
+    todo_lines = [line for line in lines if line.startswith(("✓", "✗"))]
+    assert [line[:9] for line in todo_lines] == [f"✗ TODO {k}:" for k in range(1, 8)]
+    assert all("not done" in line and "placeholder" in line for line in todo_lines)
+    assert "0 of 7 TODOs pass" in lines[-1]
     shutil.copy(SOLUTION, folder / "rigid_body_dynamic.py")
     solved = subprocess.run([str(python), "rigid_body_dynamic.py", "--check"], cwd=folder, env=env,
                             capture_output=True, text=True, timeout=300)

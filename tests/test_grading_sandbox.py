@@ -1,13 +1,14 @@
 """Hostile submissions in the grader's bubblewrap box (rigid/grading/box.py), as the TA's grade.py runs them.
 
-One batch (--jobs 2, --require-sandbox) of three files, each the right solution, so each must score
-full marks whatever else it does: a sibling whose file holds a secret; one that tries to read the
-sibling's file and to write the stolen text into the TA's home and into the grades' folder; one that
-opens a TCP connection to a server this test listens on, runs ``os.system`` to write a file beside
-the test, forks until refused, and leaves a ``sleep`` behind. Every attempt must fail (nothing
-written, nothing read, no connection, no process left) and be noted in that file's feedback. CI runs
-the suite as root: there the child drops to a uid of its own. Without bwrap: the loud warning once,
-and --require-sandbox refuses with one line.
+One batch (--jobs 2, --require-sandbox) of two files, each the right solution, so each must score full
+marks whatever else it does: a sibling whose file holds a secret, and a hostile file graded beside it that
+tries everything at once: it reads the sibling's file and writes the stolen text into the TA's home and
+into the grades' folder, opens a TCP connection to a server this test listens on, runs ``os.system`` to
+write a file beside the test, forks until refused, and leaves a ``sleep`` behind. Every attempt must fail
+(nothing written, nothing read, no connection, no process left) and be noted in its feedback (seven kinds
+of note, within the child's limit of eight: rigid.grading.attempts.LIMIT). CI runs the suite as root:
+there the child drops to a uid of its own. Without bwrap: the loud warning once, and --require-sandbox
+refuses with one line.
 """
 import json
 import os
@@ -30,7 +31,7 @@ SECRET = "SECRET-" + uuid.uuid4().hex[:8]
 SLEEP = 987654 + os.getpid() % 1000  # the argument of the sleep left behind, to find it in ps
 
 
-def hostile_files(sibling: Path, home_target: Path, out_target: Path) -> str:
+def hostile_code(sibling: Path, home_target: Path, out_target: Path, port: int, marker: Path) -> str:
     return SOLUTION.read_text() + f"""
 
 import pathlib as _p
@@ -45,11 +46,6 @@ for _target in ({str(home_target)!r}, {str(out_target)!r}):
         _p.Path(_target).write_text("pwned " + _stolen)
     except Exception:
         pass
-"""
-
-
-def hostile_processes(port: int, marker: Path) -> str:
-    return SOLUTION.read_text() + f"""
 
 import os as _os, socket as _socket, signal as _signal
 try:
@@ -98,8 +94,8 @@ def hostile(tmp_path_factory):
     targets = dict(home=Path.home() / f"grader_pwned_{uuid.uuid4().hex[:8]}.txt", out=out / "pwned.txt",
                    marker=base / "os_system_marker.txt")
     (subs / "sibling.py").write_text(SOLUTION.read_text() + f"\n# {SECRET}\n")
-    (subs / "files.py").write_text(hostile_files(subs / "sibling.py", targets["home"], targets["out"]))
-    (subs / "processes.py").write_text(hostile_processes(server.getsockname()[1], targets["marker"]))
+    (subs / "hostile.py").write_text(hostile_code(subs / "sibling.py", targets["home"], targets["out"],
+                                                  server.getsockname()[1], targets["marker"]))
     proc = subprocess.run([sys.executable, str(ROOT / "scripts" / "grade.py"), str(subs), "--jobs", "2",
                            "--require-sandbox", "--json", str(out / "grades.json")],
                           capture_output=True, text=True, timeout=600)
@@ -117,14 +113,14 @@ def hostile(tmp_path_factory):
 
 @needs_bwrap
 def test_every_file_scores_full_marks_and_the_sibling_is_untouched(hostile):
-    assert {n: r["total"] for n, r in hostile["results"].items()} == {"sibling": 90, "files": 90, "processes": 90}
+    assert {n: r["total"] for n, r in hostile["results"].items()} == {"sibling": 90, "hostile": 90}
     assert hostile["results"]["sibling"]["notes"] == []
     assert "NOT contained" not in hostile["stderr"]
 
 
 @needs_bwrap
 def test_files_outside_the_box_can_be_neither_read_nor_written(hostile):
-    r = hostile["results"]["files"]
+    r = hostile["results"]["hostile"]
     assert "STOLEN:\n" in r["output"] and SECRET not in r["output"]
     assert not hostile["targets"]["home"].exists() and not hostile["targets"]["out"].exists()
     assert sorted(p.name for p in hostile["out"].iterdir()) == ["grades.json", "grades.summary.txt"]
@@ -135,7 +131,7 @@ def test_files_outside_the_box_can_be_neither_read_nor_written(hostile):
 
 @needs_bwrap
 def test_no_network_no_command_outside_a_bounded_number_of_processes_none_left(hostile):
-    r = hostile["results"]["processes"]
+    r = hostile["results"]["hostile"]
     assert hostile["reached"] == [] and not hostile["targets"]["marker"].exists()
     forks = int(r["output"].split("FORKS:")[1].split()[0])
     assert 0 < forks < 256  # the box's process limit (rigid.grading.child.PROCESSES), Taichi's threads included

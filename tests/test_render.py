@@ -7,16 +7,15 @@ rasterizer and needs no Vulkan; the checks that a missing Vulkan is one line (fo
 window) and that recording works without one are at the end.
 """
 import os
-import signal
 import subprocess
 import sys
-import time
 
 import av
 import numpy as np
 import pytest
 
-from conftest import ROOT, SOLUTION, default_sigint, killed_at_exit
+from conftest import ROOT, SOLUTION
+from terminal import Terminal
 
 W, H = 160, 120
 
@@ -144,23 +143,15 @@ def test_ctrl_c_finalises_a_playable_file_with_the_frames_so_far(tmp_path):
     """... recorded with no Vulkan driver at all: recording does not need one."""
     out = tmp_path / "long.mp4"
     out.write_bytes(b"an older recording")
-    proc = subprocess.Popen([sys.executable, str(SOLUTION), "--record", str(out), "--frames", "100000",
-                             "--resolution", str(W), str(H)], cwd=ROOT, stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True, env=no_vulkan_env(tmp_path),
-                            preexec_fn=default_sigint)
-    partial = tmp_path / ".long.partial.mp4"
-    with killed_at_exit(proc):
-        deadline = time.time() + 60
-        # Frames encoded (the kernels compiled: a Ctrl-C during the compile writes nothing, see
-        # tests/test_clean_ends.py), then some more.
-        while not (partial.exists() and partial.stat().st_size > 0) and time.time() < deadline \
-                and proc.poll() is None:
-            time.sleep(0.05)
-        time.sleep(0.7)
-        proc.send_signal(signal.SIGINT)
-        _, stderr = proc.communicate(timeout=60)
-    assert proc.returncode == 130, stderr
+    command = [sys.executable, str(SOLUTION), "--record", str(out), "--frames", "100000",
+               "--resolution", str(W), str(H)]
+    with Terminal(command, cwd=ROOT, env=no_vulkan_env(tmp_path)) as run:
+        # Frames drawn and handed to the encoder: the kernels are compiled (a Ctrl-C during the
+        # compile writes nothing, see tests/test_clean_ends.py), the recording loop runs.
+        run.count(100001)
+        code = run.ctrl_c()
+    assert code == 130, run.text
     frames, stream, _ = decode(out)
     assert 0 < len(frames) < 100000 and stream.average_rate == 60
-    assert f"wrote {out} ({len(frames)} frames" in stderr and "Traceback" not in stderr
-    assert not partial.exists()
+    assert f"wrote {out} ({len(frames)} frames" in run.text and "Traceback" not in run.text
+    assert not (tmp_path / ".long.partial.mp4").exists()

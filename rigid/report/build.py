@@ -98,9 +98,8 @@ def flip_figure(get_sim, path, duration: float) -> dict:
     from rigid.science import reference
 
     omega0 = experiments.FLIP_W0
-    result = experiments.flip(get_sim, omega0=omega0, duration=duration)
-    sim = get_sim(**experiments.T_HANDLE, gravity=(0.0, 0.0, 0.0), initial_angular_velocity=omega0)
-    traj = experiments.record(sim, int(duration * 100), 10)
+    sim, traj = experiments.flip_run(get_sim, omega0=omega0, duration=duration)  # measured and drawn: one run
+    result = experiments.flip_period(sim, traj, omega0)
     _w, _q, omega_ref = reference.torque_free_rotation(sim.model.inertia_body_np[0], omega0, traj["t"])
     figures.flip(traj["t"], experiments.body_omega(traj), traj["t"], omega_ref, result["period"],
                  result["reference_period"], path)

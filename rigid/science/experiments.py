@@ -145,10 +145,22 @@ def body_omega(traj: dict) -> np.ndarray:
 def flip(get_sim, integrator: str = "euler", dt: float = 1e-3, omega0=FLIP_W0,
          duration: float = 9.0) -> dict:
     """The intermediate-axis flip: period of ω_y (body) from its zero crossings vs Landau's K(k)."""
+    sim, traj = flip_run(get_sim, integrator, dt, omega0, duration)
+    return flip_period(sim, traj, omega0)
+
+
+def flip_run(get_sim, integrator: str = "euler", dt: float = 1e-3, omega0=FLIP_W0,
+             duration: float = 9.0) -> tuple:
+    """The T-handle spun about its intermediate axis, without gravity: (sim, its trajectory sampled
+    every 10 ms), for ``flip_period`` and for a figure of the same run."""
     sim = get_sim(**T_HANDLE, integrator=integrator, dt=dt, gravity=(0.0, 0.0, 0.0),
                   initial_angular_velocity=tuple(omega0))
     rows = int(round(duration * 100))  # a sample every 10 ms
-    traj = record(sim, rows, int(round(0.01 / dt)))
+    return sim, record(sim, rows, int(round(0.01 / dt)))
+
+
+def flip_period(sim, traj: dict, omega0=FLIP_W0) -> dict:
+    """``flip``'s numbers from a ``flip_run``."""
     crossings = ref.zero_crossings(traj["t"], body_omega(traj)[:, 1])
     # Two sign changes per period: the full periods are crossings[i + 2] − crossings[i].
     measured = float(np.mean(crossings[2:] - crossings[:-2])) if len(crossings) >= 3 else float("nan")
