@@ -120,8 +120,8 @@ def _add_energy(c: ti.template(), j):
 
 @ti.func
 def pair_energy(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(), i):
-    """Σ over slot i's candidates of half each touching pair's ½ k δ², in slot order: the
-    energies pair_forces sums (the frame's contact energy, stages.block_contact_energy)."""
+    """Σ over slot i's candidates of half each touching pair's ½ k δ², in slot order: the energies
+    of the pairs pair_forces sums (the frame's contact energy, stages.block_contact_energy)."""
     a = model.particle_body[i]
     p, r_a = state.particle_x[i], model.particle_radius[a]
     k, _kd, _mu = stages.contact_constants(world)
@@ -132,14 +132,14 @@ def pair_energy(model: ti.template(), state: ti.template(), world: ti.template()
     return energy
 
 
-PairSums = namedtuple("PairSums", "model state i p r_a x_a v_a w_a k kd mu reach_max waker wake f couple energy")
+PairSums = namedtuple("PairSums", "model state i p r_a x_a v_a w_a k kd mu reach_max waker wake f couple")
 
 
 @ti.func
 def _add_pair(c: ti.template(), j):
-    """pair_forces' visitor: candidate j's force, couple about pᵢ and half energy added to the sums
-    when the pair touches (the sums take only these, so which other candidates a list holds, its
-    skin, when it was built, changes no bit of them; zeros added or not would round the sums
+    """pair_forces' visitor: candidate j's force and couple about pᵢ added to the sums when the
+    pair touches (the sums take only these, so which other candidates a list holds, its skin,
+    when it was built, changes no bit of them; zeros added or not would round the sums
     differently); with ``wake``, a moving body (``waker``) marks the sleeping body of j it
     touches as woken."""
     f, contact, e = pair_between(c.model, c.state, c.i, c.p, c.r_a, c.x_a, c.v_a, c.w_a, c.k, c.kd, c.mu, j,
@@ -151,15 +151,14 @@ def _add_pair(c: ti.template(), j):
     if e > 0 or f[0] != 0 or f[1] != 0 or f[2] != 0:
         c.f += f
         c.couple += (contact - c.p).cross(f)
-        c.energy += e
 
 
 @ti.func
 def pair_forces(model: ti.template(), state: ti.template(), world: ti.template(), scratch: ti.template(), i,
                 wake: ti.template(), waking=0):
     """Σ over slot i's candidates (other bodies' particles, candidates.py) of (force, couple about
-    pᵢ, contact energy), in slot order. With ``wake`` (compiled in) and ``waking`` (now), a
-    moving body marks the sleeping bodies it touches as woken (sleep.py)."""
+    pᵢ), in slot order (their energies: pair_energy). With ``wake`` (compiled in) and ``waking``
+    (now), a moving body marks the sleeping bodies it touches as woken (sleep.py)."""
     a = model.particle_body[i]
     p, r_a = state.particle_x[i], model.particle_radius[a]
     k, kd, mu = stages.contact_constants(world)
@@ -167,14 +166,13 @@ def pair_forces(model: ti.template(), state: ti.template(), world: ti.template()
     reach_max = r_a + bp.largest_radius(scratch)
     f = ti.Vector.zero(float, 3)
     couple = ti.Vector.zero(float, 3)
-    energy = 0.0
     waker = 0
     if ti.static(wake):
         waker = sleep.moving(state, world, scratch, a) * waking
     candidates.each_candidate(model, state, scratch, i, a, _add_pair,
                               ti.static(PairSums(model, state, i, p, r_a, x_a, v_a, w_a, k, kd, mu, reach_max,
-                                                 waker, wake, f, couple, energy)))
-    return f, couple, energy
+                                                 waker, wake, f, couple)))
+    return f, couple
 
 
 @ti.func
@@ -182,7 +180,7 @@ def pair_stage(model: ti.template(), state: ti.template(), world: ti.template(),
                wake: ti.template(), waking=1):
     """Stage 3a (bodies in contact): slot i's force and couple from other bodies' particles
     (``wake`` and ``waking``: and the sleepers it wakes, sleep.py)."""
-    fp, cp, _e = pair_forces(model, state, world, scratch, i, wake, waking)
+    fp, cp = pair_forces(model, state, world, scratch, i, wake, waking)
     scratch.particle_f[i] = fp
     scratch.particle_couple[i] = cp
 
