@@ -3,7 +3,7 @@
 - vary.py     ``--vary KEY=START:STOP:N`` / ``KEY=a,b,c``: the values, checked; the runs, their product
 - task.py     one run in a worker process: Taichi started once, the run's NPZ (and MP4) as bytes
 - batch.py    runs that differ only in their bodies' starts, as the worlds of one Simulator
-- pool.py     the local process pool (a worker that dies fails only the runs it held)
+- pool.py     the local process pool (a worker that dies fails only the run it held)
 - cluster.py  the same tasks on a Ray cluster (``--ray ADDRESS|local``; the ``cluster`` extra)
 - folder.py   the output folder: index.csv, runs/<run>.npz, sweep.json; resume; atomic writes
 - driver.py   plan, check, resume, dispatch, write: the one function the CLI and the API call
