@@ -91,30 +91,34 @@ def add_external(u: ti.template(), model: ti.template(), state: ti.template(), w
 
 @ti.func
 def point_wrench(u: ti.template(), model: ti.template(), state: ti.template(), world: ti.template(), b):
-    """F and τ (about x) that the forces at points (the grab, springs) put on body b, through TODO 3 and 4."""
+    """F and τ (about x) that the forces at points put on body b, through TODO 3 and 4: the grab
+    (row −1), then each spring with an end on b, in index order (the sums' order is fixed). Each
+    row gives a point and a force; one call of the TODOs sums them all (their code is compiled once)."""
     F = ti.Vector.zero(float, 3)
     tau = ti.Vector.zero(float, 3)
     x, R = state.x[b], state.R[b]
     held = ti.cast(world.values[GRAB_SLOT], ti.i32)
-    if held >= 0:
-        if model.particle_body[held] == b:
-            r0 = body_offset(model, held)
-            r = matvec(R, r0)
-            target = ti.Vector([world.values[GRAB_TX], world.values[GRAB_TX + 1], world.values[GRAB_TX + 2]])
-            v_p = state.v[b] + state.omega[b].cross(r)
-            f = world.values[GRAB_K] * (target - (x + r)) - world.values[GRAB_C] * v_p
-            F += u.total_force_term(f)
-            tau += u.torque_term(x + r, x, R, r0, f)
     per_world = ti.cast(world.values[NUM_SPRINGS], ti.i32)  # world w's springs: rows w · S .. (w + 1) · S − 1
     first = model.body_world[b][1] * per_world
-    for s in range(first, first + per_world):  # in index order: the sums' order is fixed
-        row = world.springs[s]
-        if ti.cast(row[0], ti.i32) == b or ti.cast(row[1], ti.i32) == b:
-            a, _b, ra, rb, pa, pb, f = _spring_force(world, state, s)
+    for s in range(first - 1, first + per_world):
+        acts = False
+        p, r0, f = x, ti.Vector.zero(float, 3), ti.Vector.zero(float, 3)
+        if s < first:  # the grab: f = k (target − p) − c v_p at the held particle, if it is b's
+            if held >= 0 and model.particle_body[held] == b:
+                r0 = body_offset(model, held)
+                r = matvec(R, r0)
+                p = x + r
+                target = ti.Vector([world.values[GRAB_TX], world.values[GRAB_TX + 1], world.values[GRAB_TX + 2]])
+                f = world.values[GRAB_K] * (target - p) - world.values[GRAB_C] * (state.v[b] + state.omega[b].cross(r))
+                acts = True
+        elif ti.cast(world.springs[s][0], ti.i32) == b or ti.cast(world.springs[s][1], ti.i32) == b:
+            a, _b, ra, rb, pa, pb, f_a = _spring_force(world, state, s)
+            acts = True
             if a == b:
-                F += u.total_force_term(f)
-                tau += u.torque_term(pa, x, R, ra, f)
+                p, r0, f = pa, ra, f_a
             else:
-                F += u.total_force_term(-f)
-                tau += u.torque_term(pb, x, R, rb, -f)
+                p, r0, f = pb, rb, -f_a
+        if acts:
+            F += u.total_force_term(f)
+            tau += u.torque_term(p, x, R, r0, f)
     return F, tau
