@@ -145,9 +145,15 @@ def set_body_float(scratch: ti.template(), b, what: ti.template(), v):
 
 
 @ti.func
+def reference_x(scratch: ti.template(), b):
+    """x of body b at the last build or its last refresh."""
+    return ti.Vector([scratch.broadphase_body_floats[b, POSE_X[k]] for k in ti.static(range(3))])
+
+
+@ti.func
 def reference_pose(scratch: ti.template(), b):
     """(x, R) of body b at the last build or its last refresh."""
-    x = ti.Vector([scratch.broadphase_body_floats[b, POSE_X[k]] for k in ti.static(range(3))])
+    x = reference_x(scratch, b)
     R = ti.Matrix([[scratch.broadphase_body_floats[b, POSE_R[3 * r + c]] for c in ti.static(range(3))]
                    for r in ti.static(range(3))])
     return x, R

@@ -49,6 +49,12 @@ def _turn_norm(R, R0):
 
 
 @ti.func
+def body_dx(scratch: ti.template(), state: ti.template(), b):
+    """Δx of body b since the last build (alone: the rotation's bound is not compiled in)."""
+    return state.x[b] - bp.reference_x(scratch, b)
+
+
+@ti.func
 def body_shift(scratch: ti.template(), state: ti.template(), b):
     """(Δx of body b since the last build, the bound _turn_norm(R, R_build) ρ_b)."""
     x0, R0 = bp.reference_pose(scratch, b)
@@ -85,7 +91,7 @@ def note_motion(scratch: ti.template(), state: ti.template()):
     lo = ti.Vector([1e30, 1e30, 1e30], float)
     hi = -lo
     for b in range(B):
-        dx, _turn = body_shift(scratch, state, b)
+        dx = body_dx(scratch, state, b)
         lo = ti.min(lo, dx)
         hi = ti.max(hi, dx)
     c = 0.5 * (lo + hi)
@@ -122,7 +128,7 @@ def note_motion_spread(scratch: ti.template(), state: ti.template()):
         for what in ti.static((bp.E_FIRST, bp.E_SECOND, bp.E_TIES)):
             bp.set_value(scratch, what, 0.0)
     for b in range(state.x.shape[0]):
-        dx, _turn = body_shift(scratch, state, b)
+        dx = body_dx(scratch, state, b)
         for k in ti.static(range(3)):
             bp.lower_value(scratch, bp.SHIFT_LO[k], dx[k])
             bp.raise_value(scratch, bp.SHIFT_HI[k], dx[k])
