@@ -46,7 +46,7 @@
                 threads.py: Taichi's CPU workers pinned one to a core for the parallel schedule
   rows.py       a row of state per frame, for the host; simulator.py: the facade
   worlds.py     many worlds in one Simulator: copies of a scene, none touching another
-  units.py      the TODO units' contract; rotation.py, matvec.py: helpers
+  units.py      the TODO units' contract; rotation.py; matvec.py: M v, dot, cross, norm written out (compile time)
 
 Nothing here replaces a function of Taichi's (tests/test_backends.py checks).
 

@@ -36,11 +36,13 @@ differently for the two orders, and about half the pairs came out a few ulps apa
 """
 import taichi as ti
 
+from .matvec import cross, dot, norm
+
 
 @ti.func
 def friction(fn, vt, mu, kd):
     """Coulomb friction against the tangential velocity vt, capped by viscous damping kd."""
-    speed = vt.norm()
+    speed = norm(vt)
     force = ti.Vector.zero(float, 3)
     if speed > 0:
         force = (-ti.min(mu * fn, kd * speed) / speed) * vt
@@ -52,7 +54,7 @@ def plane_depth(p, radius, plane):
     """The plane {y : n·y = offset} (``plane`` = (n, offset), n into the free side) and a particle's
     sphere at p: (n, the overlap δ = offset + radius − n·p; positive where they touch)."""
     normal = ti.Vector([plane[0], plane[1], plane[2]])
-    return normal, plane[3] + radius - normal.dot(p)
+    return normal, plane[3] + radius - dot(normal, p)
 
 
 @ti.func
@@ -63,7 +65,7 @@ def plane_force(p, v, radius, plane, k, kd, mu):
     energy = 0.0
     normal, depth = plane_depth(p, radius, plane)
     if depth > 0:
-        vn = normal.dot(v)
+        vn = dot(normal, v)
         fn = ti.max(k * depth - kd * vn, 0.0)
         force = fn * normal + friction(fn, v - vn * normal, mu, kd)
         energy = 0.5 * k * depth * depth
@@ -88,10 +90,10 @@ def sticking_friction(slip, n, vt, step, k, ct, mu, fn):
     velocity vt of the moving side over ``step``, damped by ct, slipping at μ fn (then
     re-anchored where the spring alone holds μ fn). Returns (the tangential force on the side
     moving at vt, the new stretch)."""
-    s = slip - n.dot(slip) * n + step * vt
+    s = slip - dot(n, slip) * n + step * vt
     ft = -k * s - ct * vt
     cap = mu * fn
-    size = ft.norm()
+    size = norm(ft)
     if size > cap:
         ft = (cap / size) * ft  # size > cap >= 0
         s = ti.Vector.zero(float, 3)
@@ -113,7 +115,7 @@ def plane_force_sticking(p, v, radius, plane, k, c, ct, mu, slip, step):
     normal, depth = plane_depth(p, radius, plane)
     if depth > 0:
         touching = 1
-        vn = normal.dot(v)
+        vn = dot(normal, v)
         fn = ti.max(k * depth - c * vn, 0.0)
         ft, new_slip = sticking_friction(slip, normal, v - vn * normal, step, k, ct, mu, fn)
         force = fn * normal + ft
@@ -132,7 +134,7 @@ def pair_force_damped(p_i, p_j, r_a, r_b, x_a, v_a, w_a, x_b, v_b, w_b, k, kd, k
     """``pair_force`` with the normal damper kd and the sticking friction's kt apart (materials)."""
     force, c, energy = pair_contact(p_i, p_j, r_a, r_b, x_a, v_a, w_a, x_b, v_b, w_b, k, kd, kt, mu)
     # Apart: zero force and c = 0, so a zero couple (its sign bits add nothing to a sum).
-    return force, (c - p_i).cross(force), energy
+    return force, cross(c - p_i, force), energy
 
 
 @ti.func
@@ -159,7 +161,7 @@ def _pair_overlap(p_i, p_j, r_a, r_b):
     dist = 0.0
     overlap = 0.0
     d = p_j - p_i
-    dist2 = d.dot(d)
+    dist2 = dot(d, d)
     reach = r_a + r_b
     if dist2 < reach * reach and dist2 > 0:
         touching = True
@@ -180,7 +182,7 @@ def _pair_frame(p_i, p_j, r_a, r_b, x_a, v_a, w_a, x_b, v_b, w_b):
     if touching:
         n = d / dist
         c = 0.5 * (p_i + p_j) + (0.5 * (r_a - r_b)) * n
-        v_rel = (v_b + w_b.cross(c - x_b)) - (v_a + w_a.cross(c - x_a))
+        v_rel = (v_b + cross(w_b, c - x_b)) - (v_a + cross(w_a, c - x_a))
     return touching, n, overlap, c, v_rel
 
 
@@ -193,7 +195,7 @@ def pair_contact(p_i, p_j, r_a, r_b, x_a, v_a, w_a, x_b, v_b, w_b, k, kd, kt, mu
     energy = 0.0
     touching, n, overlap, c, v_rel = _pair_frame(p_i, p_j, r_a, r_b, x_a, v_a, w_a, x_b, v_b, w_b)
     if touching:
-        vn = v_rel.dot(n)
+        vn = dot(v_rel, n)
         fn = ti.max(k * overlap - kd * vn, 0.0)
         # The relative velocity is j's relative to i: friction on i acts along +v_t.
         force = -fn * n - friction(fn, v_rel - vn * n, mu, kt)
@@ -230,7 +232,7 @@ def pair_contact_sticking(p_i, p_j, r_a, r_b, x_a, v_a, w_a, x_b, v_b, w_b, k, c
     new_slip = ti.Vector.zero(float, 3)
     touching, n, overlap, point, v_rel = _pair_frame(p_i, p_j, r_a, r_b, x_a, v_a, w_a, x_b, v_b, w_b)
     if touching:
-        vn = v_rel.dot(n)
+        vn = dot(v_rel, n)
         fn = ti.max(k * overlap - c * vn, 0.0)
         # On j: the spring pulls it back to where the contact began; i gets the opposite.
         ft, new_slip = sticking_friction(slip, n, v_rel - vn * n, step, k, ct, mu, fn)

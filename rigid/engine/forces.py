@@ -19,7 +19,7 @@ the model or the world's values); no schedule, stage or kernel changes.
 import taichi as ti
 
 from .grab import GRAB_C, GRAB_K, GRAB_SLOT, GRAB_TX
-from .matvec import body_offset, matvec
+from .matvec import body_offset, cross, dot, matvec, norm
 
 NUM_SPRINGS = 10  # the slot of WorldArgs.values holding how many rows of world.springs each world uses
 DRAG = 3  # the component of model.body_material holding the body's drag coefficient
@@ -40,7 +40,7 @@ def _end(state: ti.template(), body, point):
     if body >= 0:
         r = matvec(state.R[body], point)
         p = state.x[body] + r
-        v = state.v[body] + state.omega[body].cross(r)
+        v = state.v[body] + cross(state.omega[body], r)
     return p, v
 
 
@@ -55,11 +55,11 @@ def _spring_force(world: ti.template(), state: ti.template(), s):
     pa, va = _end(state, a, ra)
     pb, vb = _end(state, b, rb)
     d = pb - pa
-    length = d.norm()
+    length = norm(d)
     f = ti.Vector.zero(float, 3)
     if length > 0:
         n = d / length
-        f = (row[8] * (length - row[10]) + row[9] * (vb - va).dot(n)) * n
+        f = (row[8] * (length - row[10]) + row[9] * dot(vb - va, n)) * n
     return a, b, ra, rb, pa, pb, f
 
 
@@ -79,7 +79,7 @@ def add_external(u: ti.template(), model: ti.template(), state: ti.template(), w
         for i in range(model.block_start[k], model.block_start[k] + model.block_count[k]):
             r0 = body_offset(model, i)
             r = matvec(R, r0)
-            f = particle_force(model, b, v + omega.cross(r))
+            f = particle_force(model, b, v + cross(omega, r))
             F_out += u.total_force_term(f)
             tau_out += u.torque_term(x + r, x, R, r0, f)
     if model.body_blocks[b][0] == k and any_point_forces(world):
@@ -109,7 +109,7 @@ def point_wrench(u: ti.template(), model: ti.template(), state: ti.template(), w
                 r = matvec(R, r0)
                 p = x + r
                 target = ti.Vector([world.values[GRAB_TX], world.values[GRAB_TX + 1], world.values[GRAB_TX + 2]])
-                f = world.values[GRAB_K] * (target - p) - world.values[GRAB_C] * (state.v[b] + state.omega[b].cross(r))
+                f = world.values[GRAB_K] * (target - p) - world.values[GRAB_C] * (state.v[b] + cross(state.omega[b], r))
                 acts = True
         elif ti.cast(world.springs[s][0], ti.i32) == b or ti.cast(world.springs[s][1], ti.i32) == b:
             a, _b, ra, rb, pa, pb, f_a = _spring_force(world, state, s)

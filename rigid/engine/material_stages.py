@@ -21,10 +21,10 @@ import taichi as ti
 from . import candidates, neighbours, pair_slip, sleep
 from .contact import lower_slot_first, pair_contact, pair_contact_sticking
 from .materials import normal_damping, pair_mu, pair_restitution, sticking_damping
-from .matvec import matvec
+from .matvec import cross, dot, matvec
 from .stages import num_planes, planes_in_reach
-from .static_faces import faced, on_face
 from .state import DAMPING, DT, FRICTION, MATERIAL_TABLE, MATERIALS, STIFFNESS
+from .static_faces import faced, on_face
 
 
 @ti.func
@@ -77,7 +77,7 @@ def _material_pair(model: ti.template(), state: ti.template(), world: ti.templat
     reach = r_a + r_b
     k, dt = world.values[STIFFNESS], world.values[DT]
     slip = ti.Vector.zero(float, 3)
-    if d.dot(d) < reach * reach:
+    if dot(d, d) < reach * reach:
         m_eff = _pair_mass(model, a, b) / _pair_count(model, state, scratch, a, b)
         ma, mb = model.body_material[a], model.body_material[b]
         c = normal_damping(pair_restitution(ma[1], mb[1]), k, m_eff, dt, 0.0, 1.0, world.values,
@@ -96,12 +96,12 @@ def _material_pair(model: ti.template(), state: ti.template(), world: ti.templat
         else:  # no entry: friction viscous below μ f_n (contact.friction)
             f_lo, point, _e = pair_contact(lo_p, hi_p, lo_r, hi_r, lo_x, lo_v, lo_w, hi_x, hi_v, hi_w, k, c, ct, mu)
         f = sign * f_lo
-        couple = (point - p).cross(f)
+        couple = cross(point - p, f)
         touching = 1
         inside = 1
-    elif d.dot(d) < 4.0 * reach * reach:  # about to touch? (for the next count)
-        dist = ti.sqrt(d.dot(d))
-        closing = ((v_a + w_a.cross(p - x_a)) - (state.v[b] + state.omega[b].cross(q - state.x[b]))).dot(d) / dist
+    elif dot(d, d) < 4.0 * reach * reach:  # about to touch? (for the next count)
+        dist = ti.sqrt(dot(d, d))
+        closing = dot((v_a + cross(w_a, p - x_a)) - (state.v[b] + cross(state.omega[b], q - state.x[b])), d) / dist
         if dist - reach < closing * dt:
             touching = 1
     if entry >= 0:
@@ -233,7 +233,7 @@ def count_plane_block(model: ti.template(), state: ti.template(), world: ti.temp
                 for j in range(num_planes(world)):
                     if near & (1 << j):
                         plane = world.planes[j]
-                        if plane[3] + radius - ti.Vector([plane[0], plane[1], plane[2]]).dot(p) > 0:
+                        if plane[3] + radius - dot(ti.Vector([plane[0], plane[1], plane[2]]), p) > 0:
                             count += on_face(world, j, p)
     pairs = 0  # and the block's pair contacts (as the last pair stage predicted them; 0 without pairs)
     for i in range(model.block_start[k], model.block_start[k] + model.block_count[k]):

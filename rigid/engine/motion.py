@@ -13,6 +13,7 @@ body's e_b and reach ρ'_b are its broadphase.MOTION and REACH (broadphase.py).
 import taichi as ti
 
 from . import broadphase as bp
+from .matvec import dot, norm
 
 ROTATION_DEFECT = 1e-3  # _turn_norm: the orthogonality defect up to which R is taken for a rotation
 MAYBE = 2  # broadphase.REBUILD while note_motion's rebuild is undecided (close_pairs_moved decides)
@@ -66,7 +67,7 @@ def body_shift(scratch: ti.template(), state: ti.template(), b):
 def _bound(scratch: ti.template(), state: ti.template(), b, c):
     """e_b = |Δx_b − c| + ‖ΔR_b‖₂ ρ_b (note_motion), a NaN as 1e30 (moved: a rebuild at once)."""
     dx, turn = body_shift(scratch, state, b)
-    e = (dx - c).norm() + turn
+    e = norm(dx - c) + turn
     if not (e <= 1e30):
         e = 1e30
     return e
@@ -190,5 +191,5 @@ def close_pairs_moved(model: ti.template(), state: ti.template(), scratch: ti.te
             if b != a and e_a + e_b > allowed and (e_b < e_a or (e_b == e_a and b > a)):
                 d = state.x[b] - x_a
                 reach = (reach_a + bp.body_float(scratch, b, bp.REACH) + model.particle_radius[b]) * (1.0 + 1e-5)
-                if d.dot(d) < reach * reach:
+                if dot(d, d) < reach * reach:
                     bp.put(scratch, bp.REBUILD, VIOLATED)

@@ -32,6 +32,7 @@ import taichi as ti
 
 from . import broadphase as bp
 from . import grid, scan, schedule
+from .matvec import dot
 
 NEIGHBOURS_PER_PARTICLE = 16  # list slots per particle to start with (list_growth.py doubles them where needed)
 SKIN_FRACTION = 0.5  # skin = this × the largest particle diameter
@@ -91,7 +92,7 @@ def _append_near(c: ti.template(), slot):
     if b != c.body and grid.same_world(c.model, b, c.body):
         d = c.scratch.sorted_x[slot] - c.p
         reach = c.r_a + c.model.particle_radius[b] + c.skin
-        if d.dot(d) < reach * reach:
+        if dot(d, d) < reach * reach:
             if c.n < c.stride:
                 c.scratch.nbr_list[c.i * c.stride + c.n] = c.scratch.sorted_particle[slot]
             c.n += 1
@@ -139,7 +140,7 @@ def build_half_shell(model: ti.template(), state: ti.template(), scratch: ti.tem
                             if (j > i or not own_row) and grid.same_world(model, a, b):
                                 d = scratch.sorted_x[slot] - p
                                 reach = r_a + model.particle_radius[b] + skin
-                                if d.dot(d) < reach * reach:
+                                if dot(d, d) < reach * reach:
                                     _append(scratch, i, j, stride)
                                     _append(scratch, j, i, stride)
                             slot += 1

@@ -35,6 +35,7 @@ import taichi as ti
 
 from . import broadphase as bp
 from . import candidates, neighbours, sleep, stages
+from .matvec import cross, dot
 from .pair_stages import pair_between
 
 
@@ -52,7 +53,7 @@ def any_asleep(state: ti.template()):
 def overlap(state: ti.template(), model: ti.template(), p, r_a, j):
     p_j, r_b = state.particle_x[j], model.particle_radius[model.particle_body[j]]
     d = p_j - p
-    dist2 = d.dot(d)
+    dist2 = dot(d, d)
     reach = r_a + r_b
     return dist2 < reach * reach and dist2 > 0
 
@@ -138,7 +139,7 @@ def give(state: ti.template(), scratch: ti.template(), j, fi, c):
     """Particle j's side of a pair whose force on the other side is fi, at the contact point c."""
     fj = -fi
     scratch.particle_f[j] += fj
-    scratch.particle_couple[j] += (c - state.particle_x[j]).cross(fj)
+    scratch.particle_couple[j] += cross(c - state.particle_x[j], fj)
 
 
 @ti.func
@@ -192,7 +193,7 @@ def _sweep_pair(c: ti.template(), j):
                                        c.reach_max)
         if touching(fp):
             c.f += fp
-            c.couple += (contact - c.p).cross(fp)
+            c.couple += cross(contact - c.p, fp)
             if j > c.i and c.scratch.nbr_count[j] <= c.stride and gives_to(c.model, c.state, c.scratch, j, c.part):
                 give(c.state, c.scratch, j, fp, contact)
 

@@ -11,6 +11,7 @@ import taichi as ti
 from . import broadphase as bp
 from . import candidates, neighbours, sleep, stages
 from .contact import lower_slot_first, pair_contact, pair_contact_energy
+from .matvec import cross, dot
 
 
 @ti.func
@@ -80,7 +81,7 @@ def _near(model: ti.template(), state: ti.template(), p, r_a, j, reach_max):
     b and r_b are loaded only where j lies within ``reach_max`` (zeros beyond)."""
     p_j = state.particle_x[j]
     d = p_j - p
-    dist2 = d.dot(d)
+    dist2 = dot(d, d)
     b = 0
     r_b = 0.0
     near = False
@@ -150,7 +151,7 @@ def _add_pair(c: ti.template(), j):
             sleep.mark_woken(c.state, b)
     if e > 0 or f[0] != 0 or f[1] != 0 or f[2] != 0:
         c.f += f
-        c.couple += (contact - c.p).cross(f)
+        c.couple += cross(contact - c.p, f)
 
 
 @ti.func

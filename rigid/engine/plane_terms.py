@@ -20,8 +20,9 @@ import taichi as ti
 
 from .contact import plane_force, plane_force_sticking
 from .materials import pair_mu, pair_restitution, plane_damping
-from .static_faces import on_face
+from .matvec import cross, dot
 from .state import MATERIAL_TABLE, MATERIALS, MAX_PLANES, NUM_PLANES
+from .static_faces import on_face
 
 PlainPlanes = namedtuple("PlainPlanes", "world v omega radius stiffness kd mu plane0 plane1 plane2 count")
 
@@ -30,7 +31,7 @@ PlainPlanes = namedtuple("PlainPlanes", "world v omega radius stiffness kd mu pl
 def plain_planes(c: ti.template(), i, p, r, f):
     """f + the forces of the planes c holds on the particle at p (its velocity from the body's v, ω)."""
     if ti.static(c.count > 0):
-        pv = c.v + c.omega.cross(r)
+        pv = c.v + cross(c.omega, r)
         fc, _e = plane_force(p, pv, c.radius, c.plane0, c.stiffness, c.kd, c.mu)
         f += fc
         if ti.static(c.count > 1):
@@ -39,7 +40,7 @@ def plain_planes(c: ti.template(), i, p, r, f):
             f += fc1
             f += fc2
     elif ti.static(c.count < 0):
-        pv = c.v + c.omega.cross(r)
+        pv = c.v + cross(c.omega, r)
         for j in range(ti.cast(c.world.values[NUM_PLANES], ti.i32)):
             fc, _e = plane_force(p, pv, c.radius, c.world.planes[j], c.stiffness, c.kd, c.mu)
             f += fc
@@ -54,7 +55,7 @@ MaterialPlanes = namedtuple("MaterialPlanes", "state world v omega radius stiffn
 def material_planes(c: ti.template(), i, p, r, f):
     """f + the material contacts of the planes in reach (bits of ``near``) on the particle at p,
     their sticking springs carried in state.plane_slip and the touching ones counted."""
-    pv = c.v + c.omega.cross(r)
+    pv = c.v + cross(c.omega, r)
     for j in range(ti.cast(c.world.values[NUM_PLANES], ti.i32)):
         slot = i * MAX_PLANES + j
         active = 0
@@ -65,8 +66,8 @@ def material_planes(c: ti.template(), i, p, r, f):
             normal = ti.Vector([plane[0], plane[1], plane[2]])
             slip = c.state.plane_slip[slot]
             damper, memory = plane_damping(pair_restitution(c.mat[1], c.world.values[MATERIALS + 4 * j + 1]),
-                                           c.stiffness, c.m_eff, c.dt, -c.g.dot(normal), normal.dot(slip),
-                                           normal.dot(pv), plane[3] + c.radius - normal.dot(p), c.world.values,
+                                           c.stiffness, c.m_eff, c.dt, -dot(c.g, normal), dot(normal, slip),
+                                           dot(normal, pv), plane[3] + c.radius - dot(normal, p), c.world.values,
                                            MATERIALS + MATERIAL_TABLE, c.c_world, c.touch_part)
             mu = pair_mu(c.mat[0], c.world.values[MATERIALS + 4 * j], c.mu_world)
             fc, slip, touching = plane_force_sticking(p, pv, c.radius, plane, c.stiffness, damper, c.ct, mu, slip,

@@ -43,7 +43,7 @@ import taichi as ti
 from . import broadphase as bp
 from . import motion, neighbours, refresh_search, schedule
 from .broadphase import MARKED, REFRESHED, body_state, marked, refreshed_body, searching
-from .matvec import body_offset, matvec
+from .matvec import body_offset, matvec, norm
 
 # Of the particles, refreshed since the last full build at most. On the 24,000-body pile at 1 s a
 # refresh marks ~12 % of the bodies at a skin of a tenth of a diameter: 0.0625 never refreshed
@@ -122,7 +122,7 @@ def _prepare(model: ti.template(), state: ti.template(), scratch: ti.template())
     if ok:
         for b in range(B):
             dx, turn = motion.body_shift(scratch, state, b)
-            moved = dx.norm() + turn
+            moved = norm(dx) + turn
             bp.set_body_float(scratch, b, bp.MOVED, moved)
             if moved > half:
                 cost += model.body_count[b]

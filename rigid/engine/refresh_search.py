@@ -23,6 +23,7 @@ import taichi as ti
 from . import broadphase as bp
 from . import grid
 from .broadphase import body_state
+from .matvec import dot
 
 CELL_BITS = 1023  # each cell coordinate's low 10 bits go into the hash (no i32 overflow below)
 
@@ -123,7 +124,7 @@ def find_partners(model: ti.template(), state: ti.template(), scratch: ti.templa
                 if body_state(scratch, b) == 0 and grid.same_world(model, a, b):  # not refreshed since the build
                     d = scratch.sorted_x[slot] - p
                     reach = r_a + model.particle_radius[b] + skin
-                    if d.dot(d) < reach * reach:
+                    if dot(d, d) < reach * reach:
                         ok &= insert(scratch, i, scratch.sorted_particle[slot], stride)
                 slot += 1
     for c in range(27):
@@ -133,7 +134,7 @@ def find_partners(model: ti.template(), state: ti.template(), scratch: ti.templa
             if b != a and grid.same_world(model, a, b):
                 d = scratch.build_x[j] - p
                 reach = r_a + model.particle_radius[b] + skin
-                if d.dot(d) < reach * reach:
+                if dot(d, d) < reach * reach:
                     ok &= insert(scratch, i, j, stride)
             j = scratch.cell_count[H + j]
     return ok

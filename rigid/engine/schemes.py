@@ -21,7 +21,7 @@ ModelArgs, ``state`` StateArgs, ``scratch`` ScratchArgs for RK4):
 """
 import taichi as ti
 
-from .matvec import body_offset, matvec
+from .matvec import body_offset, cross, matvec
 from .rotation import quaternion_multiplication, quaternion_to_matrix
 
 RK4_NODES = (0.0, 0.5, 0.5, 1.0)  # c_s: stage s is evaluated at Y₀ + c_s Δt k_{s−1}
@@ -119,4 +119,4 @@ def init_body(u: ti.template(), model: ti.template(), state: ti.template(), b, x
 def impulse(u: ti.template(), model: ti.template(), state: ti.template(), i, J):
     b = model.particle_body[i]
     r = matvec(state.R[b], body_offset(model, i))
-    store(u, model, state, b, state.x[b], state.q[b], state.P[b] + J, state.L[b] + r.cross(J), state.R[b])
+    store(u, model, state, b, state.x[b], state.q[b], state.P[b] + J, state.L[b] + cross(r, J), state.R[b])

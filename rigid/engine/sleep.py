@@ -30,6 +30,7 @@ quiet substeps before sleeping, sleep_time / Δt).
 import taichi as ti
 
 from . import broadphase
+from .matvec import norm
 from .state import SLEEP_SPEED, SLEEP_STEPS  # defaults: state.SLEEP_SPEED_DEFAULT, SLEEP_TIME_DEFAULT
 
 
@@ -48,7 +49,7 @@ def asleep(state: ti.template(), b):
 @ti.func
 def speed_bound(state: ti.template(), scratch: ti.template(), b):
     """|v| + |ω| ρ_b: no particle of body b moves faster."""
-    return state.v[b].norm() + state.omega[b].norm() * broadphase.body_radius(scratch, b)
+    return norm(state.v[b]) + norm(state.omega[b]) * broadphase.body_radius(scratch, b)
 
 
 @ti.func

@@ -13,9 +13,9 @@ import taichi as ti
 
 from . import pair_stages, schedule, schemes
 from .contact import plane_energy
-from .matvec import body_offset, matvec
-from .static_faces import faced, on_face
+from .matvec import abs_max, body_offset, cross, dot, matvec, norm
 from .state import DAMPING, FRICTION, GX, NUM_PLANES, STIFFNESS
+from .static_faces import faced, on_face
 
 # A block's reach test is padded by this fraction of the coordinates' size (~170 float32
 # ulps), covering the round-off of pᵢ = x + R r0ᵢ: a skipped plane is exactly one no particle
@@ -50,7 +50,7 @@ def place_body_particle(model: ti.template(), state: ti.template(), i, R, x, v, 
     """Slot i placed from its body's R, x, v, ω (which a caller walking a body's particles reads once)."""
     r = matvec(R, body_offset(model, i))
     state.particle_x[i] = x + r
-    state.particle_v[i] = v + w.cross(r)
+    state.particle_v[i] = v + cross(w, r)
 
 
 @ti.func
@@ -96,15 +96,20 @@ def planes_in_reach(model: ti.template(), state: ti.template(), world: ti.templa
     c0, bounds = model.block_centre[k], model.block_bounds[k]
     half, rho = ti.Vector([bounds[0], bounds[1], bounds[2]]), bounds[3]
     c = x + matvec(R, c0)
-    extent = ti.min(matvec(ti.abs(R), half), rho * ti.Vector([R[0, :].norm(), R[1, :].norm(), R[2, :].norm()]))
+    A = ti.abs(R)
+    extent = ti.min(matvec(A, half), rho * ti.Vector([norm(R[0, :]), norm(R[1, :]), norm(R[2, :])]))
     radius = model.particle_radius[b]
-    size = ti.abs(x).max() + ti.abs(R).max() * (ti.abs(c0).max() + rho) + radius
+    a_max = A[0, 0]  # max |Rᵢⱼ|, row by row
+    for r, col in ti.static(ti.ndrange(3, 3)):
+        if ti.static(r + col > 0):
+            a_max = ti.max(a_max, A[r, col])
+    size = abs_max(x) + a_max * (abs_max(c0) + rho) + radius
     near = 0
     for j in range(num_planes(world)):
         plane = world.planes[j]
         n = ti.Vector([plane[0], plane[1], plane[2]])
-        gap = n.dot(c) - plane[3] - radius - CLEAR_MARGIN * (size + ti.abs(plane[3]))
-        if not (gap > ti.abs(n).dot(extent)):  # written so that a NaN is near
+        gap = dot(n, c) - plane[3] - radius - CLEAR_MARGIN * (size + ti.abs(plane[3]))
+        if not (gap > dot(ti.abs(n), extent)):  # written so that a NaN is near
             near |= 1 << j
     return near
 
