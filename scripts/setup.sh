@@ -116,7 +116,7 @@ else
 fi
 
 # The checkout's bytecode, once: each command line, test and worker process then loads it instead
-# of compiling the package's ~100 modules again (~0.06 s a start), where PYTHONDONTWRITEBYTECODE
+# of compiling the package's ~100 modules again at every start, where PYTHONDONTWRITEBYTECODE
 # keeps Python from writing it itself (some CI images and containers set it). Python checks each
 # file's timestamp, so an edited file is compiled afresh as usual.
 "$VPY" -m compileall -q -j 0 rigid scripts tests rigid_body_dynamic.py >/dev/null || true
