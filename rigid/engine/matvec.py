@@ -5,9 +5,9 @@ through generic helpers (matrix_ops: shape checks, static loops, reductions) tha
 front end transforms again at every call site, and every process transforms its kernels again
 on start, warm cache or not. Written out, a call site is a few times smaller to transform (and
 the kernel smaller for Taichi's passes, whose common-subexpression pass grows faster than the
-kernel). The engine's own algebra uses these; the TODO units keep Taichi's operators, as students write
-them. Same operations in the same order as Taichi's (sums in index order, ((a₀ + a₁) + a₂)), so
-the same bits.
+kernel). The engine's own algebra uses these; the TODO units keep Taichi's operators, as
+students write them. Same operations in the same order as Taichi's (sums in index order,
+((a₀ + a₁) + a₂)), so the same bits.
 """
 import taichi as ti
 
