@@ -11,7 +11,7 @@ way, so runs are bit-reproducible. A lone body is B = 1: no grid, no pairs.
 """
 import taichi as ti
 
-from . import pair_stages, schedule, schemes
+from . import pair_stages, schedule
 from .contact import plane_energy
 from .matvec import abs_max, body_offset, cross, dot, matvec, norm
 from .state import DAMPING, FRICTION, GX, NUM_PLANES, STIFFNESS
@@ -54,14 +54,19 @@ def place_body_particle(model: ti.template(), state: ti.template(), i, R, x, v, 
 
 
 @ti.func
-def set_at_rest(u: ti.template(), model: ti.template(), state: ti.template(), b):
-    """Body b, falling asleep after its update, set exactly at rest (P = L = 0) and its particles
-    placed at its final pose: a sleeper is not placed again until it wakes or the lists are
-    rebuilt, and left where the substep began (a step behind), its particles would sit
-    elsewhere until the next rebuild, so its neighbours' forces, and the run's bits, would depend
-    on when the lists are rebuilt (the skin, the chunks: skin.py)."""
+def set_at_rest(model: ti.template(), state: ti.template(), b):
+    """Body b, falling asleep after its update, set exactly at rest and its particles placed at its
+    final pose: a sleeper is not placed again until it wakes or the lists are rebuilt, and left
+    where the substep began (a step behind), its particles would sit elsewhere until the next
+    rebuild, so its neighbours' forces, and the run's bits, would depend on when the lists are
+    rebuilt (the skin, the chunks: skin.py).
+
+    At rest P = L = 0, so v = P / M = 0 and ω = I⁻¹ L = 0 (exactly +0: each row of I⁻¹ has a
+    positive diagonal entry, whose product with +0 makes the row's sum +0); x, q, R and I⁻¹ stay
+    what the update just stored. TODO 7 is not asked again for I⁻¹ L of a zero L: in the
+    many-body kernels its code, matrix products and all, would be compiled a third time."""
     zero = ti.Vector.zero(float, 3)
-    schemes.store(u, model, state, b, state.x[b], state.q[b], zero, zero, state.R[b])
+    state.P[b], state.L[b], state.v[b], state.omega[b] = zero, zero, zero, zero
     R, x = state.R[b], state.x[b]
     for i in range(model.body_start[b], model.body_start[b] + model.body_count[b]):
         place_body_particle(model, state, i, R, x, zero, zero)

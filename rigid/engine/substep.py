@@ -121,7 +121,7 @@ def sleeping_update(plan: ti.template(), model: ti.template(), state: ti.templat
         F, tau = stages.body_wrench(model, scratch, b)
         plan.update(plan.u, model, state, b, dt, F, tau)
         if sleep.end_update(state, world, scratch, b):  # at rest from now on
-            stages.set_at_rest(plan.u, model, state, b)
+            stages.set_at_rest(model, state, b)
 
 
 @ti.func
