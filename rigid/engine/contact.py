@@ -36,14 +36,14 @@ differently for the two orders, and about half the pairs came out a few ulps apa
 """
 import taichi as ti
 
-from .matvec import cross, dot, norm
+from .matvec import ZERO3, cross, dot, norm
 
 
 @ti.func
 def friction(fn, vt, mu, kd):
     """Coulomb friction against the tangential velocity vt, capped by viscous damping kd."""
     speed = norm(vt)
-    force = ti.Vector.zero(float, 3)
+    force = ZERO3
     if speed > 0:
         force = (-ti.min(mu * fn, kd * speed) / speed) * vt
     return force
@@ -61,7 +61,7 @@ def plane_depth(p, radius, plane):
 def plane_force(p, v, radius, plane, k, kd, mu):
     """The plane ``plane`` (``plane_depth``) on a particle's
     sphere at p moving at v: the force at its centre and the spring's energy ½ k δ²."""
-    force = ti.Vector.zero(float, 3)
+    force = ZERO3
     energy = 0.0
     normal, depth = plane_depth(p, radius, plane)
     if depth > 0:
@@ -96,7 +96,7 @@ def sticking_friction(slip, n, vt, step, k, ct, mu, fn):
     size = norm(ft)
     if size > cap:
         ft = (cap / size) * ft  # size > cap >= 0
-        s = ti.Vector.zero(float, 3)
+        s = ZERO3
         if k > 0:
             s = (-1.0 / k) * ft
     return ft, s
@@ -109,8 +109,8 @@ def plane_force_sticking(p, v, radius, plane, k, c, ct, mu, slip, step):
     stretch ``slip`` (world vec3, zero when the contact begins) grows by v_t ``step`` (the time
     the force acts), damped by ct, slipping at μ f_n (then re-anchored where the spring alone
     holds μ f_n). Returns (force at the centre, the new slip, 1 if touching else 0)."""
-    force = ti.Vector.zero(float, 3)
-    new_slip = ti.Vector.zero(float, 3)
+    force = ZERO3
+    new_slip = ZERO3
     touching = 0
     normal, depth = plane_depth(p, radius, plane)
     if depth > 0:
@@ -175,9 +175,9 @@ def _pair_frame(p_i, p_j, r_a, r_b, x_a, v_a, w_a, x_b, v_b, w_b):
     """Two particles' spheres: (whether they overlap, the normal n from i to j, the overlap δ, the
     contact point c in the middle of the overlap, j's velocity relative to i's at c); zeros
     when apart (``_pair_overlap``)."""
-    n = ti.Vector.zero(float, 3)
-    c = ti.Vector.zero(float, 3)
-    v_rel = ti.Vector.zero(float, 3)
+    n = ZERO3
+    c = ZERO3
+    v_rel = ZERO3
     touching, d, dist, overlap = _pair_overlap(p_i, p_j, r_a, r_b)
     if touching:
         n = d / dist
@@ -191,7 +191,7 @@ def pair_contact(p_i, p_j, r_a, r_b, x_a, v_a, w_a, x_b, v_b, w_b, k, kd, kt, mu
     """Particle j (body b) on particle i (body a): (force on i, the contact point c, half the
     pair's ½ k δ²); zeros when the spheres are apart. One evaluation serves both sides: j's
     force is −force, at the same c (rigid.engine.pair_once)."""
-    force = ti.Vector.zero(float, 3)
+    force = ZERO3
     energy = 0.0
     touching, n, overlap, c, v_rel = _pair_frame(p_i, p_j, r_a, r_b, x_a, v_a, w_a, x_b, v_b, w_b)
     if touching:
@@ -228,8 +228,8 @@ def pair_contact_sticking(p_i, p_j, r_a, r_b, x_a, v_a, w_a, x_b, v_b, w_b, k, c
     the current tangent plane (the pair turns), damped by ct and slips at μ f_n, re-anchored
     where the spring alone holds μ f_n. Returns (force on i, the contact point, the new slip:
     zero when apart)."""
-    force = ti.Vector.zero(float, 3)
-    new_slip = ti.Vector.zero(float, 3)
+    force = ZERO3
+    new_slip = ZERO3
     touching, n, overlap, point, v_rel = _pair_frame(p_i, p_j, r_a, r_b, x_a, v_a, w_a, x_b, v_b, w_b)
     if touching:
         vn = dot(v_rel, n)
@@ -244,7 +244,7 @@ def pair_contact_sticking(p_i, p_j, r_a, r_b, x_a, v_a, w_a, x_b, v_b, w_b, k, c
 def box_force(p, v, radius, floor, wall, k, kd, mu):
     """The assignment's box (floor y = floor, walls x, z = ±wall) on one particle: the sum of its
     five planes in the engine's order (rigid.engine.state.Params.plane_list), and their energy."""
-    force = ti.Vector.zero(float, 3)
+    force = ZERO3
     energy = 0.0
     for plane in ti.static(((0.0, 1.0, 0.0, 0), (1.0, 0.0, 0.0, 1), (-1.0, 0.0, 0.0, 1), (0.0, 0.0, 1.0, 1),
                             (0.0, 0.0, -1.0, 1))):

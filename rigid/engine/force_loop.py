@@ -18,7 +18,7 @@ import taichi as ti
 from . import forces, plane_terms
 from .material_stages import body_contacts, is_static
 from .materials import sticking_damping
-from .matvec import matvec
+from .matvec import ZERO3, matvec
 from .stages import contact_constants, gravity, num_planes, planes_in_reach, wrench
 from .state import DAMPING, DT, FRICTION, STIFFNESS
 
@@ -32,8 +32,8 @@ def particle_loop(u: ti.template(), model: ti.template(), scratch: ti.template()
     """Σ TODO 3 and TODO 4 over block k's particles, each one's force being TODO 2 + ``planes(c, ...)``
     + its pair force and couple (scratch, if ``pairs``); with materials (``c.contacts``), the
     block's pair contacts counted too."""
-    F = ti.Vector.zero(float, 3)
-    tau = ti.Vector.zero(float, 3)
+    F = ZERO3
+    tau = ZERO3
     pair_contacts = 0
     start = model.block_start[k]
     for i in range(start, start + model.block_count[k]):
@@ -41,7 +41,7 @@ def particle_loop(u: ti.template(), model: ti.template(), scratch: ti.template()
         r = matvec(R, r0)
         p = x + r
         f = planes(c, i, p, r, u.gravity_force(m, g))
-        couple = ti.Vector.zero(float, 3)
+        couple = ZERO3
         if ti.static(pairs):
             f += scratch.particle_f[i]
             couple = scratch.particle_couple[i]
@@ -87,8 +87,8 @@ def _plain_share(u: ti.template(), model: ti.template(), state: ti.template(), w
                 plane2 = world.planes[j]
             used += 1
     c = ti.static((world, v, omega, radius, stiffness, kd, mu, plane0, plane1, plane2))
-    F = ti.Vector.zero(float, 3)
-    tau = ti.Vector.zero(float, 3)
+    F = ZERO3
+    tau = ZERO3
     if ti.static(compact):  # one loop for every case (kernels.compact_block_loops)
         F, tau = _plain_loop(u, model, scratch, k, x, R, c, -1, pairs, m, g)
     elif used == 0:
@@ -108,8 +108,8 @@ def _material_share(u: ti.template(), model: ti.template(), state: ti.template()
     """Block k's (F, τ) with materials (``step``: the time this evaluation's force acts, Δt or RK4's
     weight of it; ``touch_part``: materials.plane_damping's first-step rule, the Euler schemes),
     and its plane and pair contacts stored for the next evaluation's m_eff. A static body: none."""
-    F = ti.Vector.zero(float, 3)
-    tau = ti.Vector.zero(float, 3)
+    F = ZERO3
+    tau = ZERO3
     plane_contacts = 0
     pair_contacts = 0
     if not is_static(model, b):
@@ -135,8 +135,8 @@ def block_forces(u: ti.template(), model: ti.template(), state: ti.template(), w
     """Stage 3b for block k: its particles' forces and the block's share of F (TODO 3) and τ
     (TODO 4), summed in slot order, + the external forces, into scratch.block_wrench[k]."""
     b = model.block_body[k]
-    F = ti.Vector.zero(float, 3)
-    tau = ti.Vector.zero(float, 3)
+    F = ZERO3
+    tau = ZERO3
     if ti.static(materials):
         F, tau = _material_share(u, model, state, world, scratch, k, b, pairs, step, touch_part)
     else:

@@ -19,7 +19,7 @@ the model or the world's values); no schedule, stage or kernel changes.
 import taichi as ti
 
 from .grab import GRAB_C, GRAB_K, GRAB_SLOT, GRAB_TX
-from .matvec import body_offset, cross, dot, matvec, norm
+from .matvec import ZERO3, body_offset, cross, dot, matvec, norm
 
 NUM_SPRINGS = 10  # the slot of WorldArgs.values holding how many rows of world.springs each world uses
 DRAG = 3  # the component of model.body_material holding the body's drag coefficient
@@ -36,7 +36,7 @@ def _end(state: ti.template(), body, point):
     """A spring's end: (world position, world velocity) of ``point`` on ``body`` (−1: the world,
     where ``point`` is already a world point, at rest)."""
     p = point
-    v = ti.Vector.zero(float, 3)
+    v = ZERO3
     if body >= 0:
         r = matvec(state.R[body], point)
         p = state.x[body] + r
@@ -56,7 +56,7 @@ def _spring_force(world: ti.template(), state: ti.template(), s):
     pb, vb = _end(state, b, rb)
     d = pb - pa
     length = norm(d)
-    f = ti.Vector.zero(float, 3)
+    f = ZERO3
     if length > 0:
         n = d / length
         f = (row[8] * (length - row[10]) + row[9] * dot(vb - va, n)) * n
@@ -94,15 +94,15 @@ def point_wrench(u: ti.template(), model: ti.template(), state: ti.template(), w
     """F and τ (about x) that the forces at points put on body b, through TODO 3 and 4: the grab
     (row −1), then each spring with an end on b, in index order (the sums' order is fixed). Each
     row gives a point and a force; one call of the TODOs sums them all (their code is compiled once)."""
-    F = ti.Vector.zero(float, 3)
-    tau = ti.Vector.zero(float, 3)
+    F = ZERO3
+    tau = ZERO3
     x, R = state.x[b], state.R[b]
     held = ti.cast(world.values[GRAB_SLOT], ti.i32)
     per_world = ti.cast(world.values[NUM_SPRINGS], ti.i32)  # world w's springs: rows w · S .. (w + 1) · S − 1
     first = model.body_world[b][1] * per_world
     for s in range(first - 1, first + per_world):
         acts = False
-        p, r0, f = x, ti.Vector.zero(float, 3), ti.Vector.zero(float, 3)
+        p, r0, f = x, ZERO3, ZERO3
         if s < first:  # the grab: f = k (target − p) − c v_p at the held particle, if it is b's
             if held >= 0 and model.particle_body[held] == b:
                 r0 = body_offset(model, held)

@@ -21,7 +21,7 @@ import taichi as ti
 from . import candidates, neighbours, pair_slip, sleep
 from .contact import lower_slot_first, pair_contact, pair_contact_sticking
 from .materials import normal_damping, pair_mu, pair_restitution, sticking_damping
-from .matvec import cross, dot, matvec
+from .matvec import ZERO3, cross, dot, matvec
 from .stages import num_planes, planes_in_reach
 from .state import DAMPING, DT, FRICTION, MATERIAL_TABLE, MATERIALS, STIFFNESS
 from .static_faces import faced, on_face
@@ -67,8 +67,8 @@ def _material_pair(model: ti.template(), state: ti.template(), world: ti.templat
     list, where its sticking spring is kept (pair_slip.py), or −1 (i walks the grid). The law is
     evaluated from the lower slot's side whichever side asks, so that both sides' forces are
     exactly opposite and both copies of the spring evolve alike (pair_stages.pair_between)."""
-    f = ti.Vector.zero(float, 3)
-    couple = ti.Vector.zero(float, 3)
+    f = ZERO3
+    couple = ZERO3
     touching = 0
     inside = 0
     b = model.particle_body[j]
@@ -76,7 +76,7 @@ def _material_pair(model: ti.template(), state: ti.template(), world: ti.templat
     d = q - p
     reach = r_a + r_b
     k, dt = world.values[STIFFNESS], world.values[DT]
-    slip = ti.Vector.zero(float, 3)
+    slip = ZERO3
     if dot(d, d) < reach * reach:
         m_eff = _pair_mass(model, a, b) / _pair_count(model, state, scratch, a, b)
         ma, mb = model.body_material[a], model.body_material[b]
@@ -87,8 +87,8 @@ def _material_pair(model: ti.template(), state: ti.template(), world: ti.templat
         x_b, v_b, w_b = state.x[b], state.v[b], state.omega[b]
         lo_p, lo_r, lo_x, lo_v, lo_w, hi_p, hi_r, hi_x, hi_v, hi_w, sign = lower_slot_first(
             i, j, p, r_a, x_a, v_a, w_a, q, r_b, x_b, v_b, w_b)
-        f_lo = ti.Vector.zero(float, 3)
-        point = ti.Vector.zero(float, 3)
+        f_lo = ZERO3
+        point = ZERO3
         # Both sides keep the spring, or neither: j's list may have overflowed (it walks the grid).
         if entry >= 0 and scratch.nbr_count[j] <= neighbours.list_stride(scratch, state):
             f_lo, point, slip = pair_contact_sticking(lo_p, hi_p, lo_r, hi_r, lo_x, lo_v, lo_w, hi_x, hi_v, hi_w,
@@ -149,8 +149,8 @@ def pair_stage(model: ti.template(), state: ti.template(), world: ti.template(),
     sleeping, pair_wave's, a run-time value (wave 0 also notes whether i has sleepers among its
     candidates); −1 without sleeping."""
     a = model.particle_body[i]
-    f = ti.Vector.zero(float, 3)
-    couple = ti.Vector.zero(float, 3)
+    f = ZERO3
+    couple = ZERO3
     touching = 0
     sleepers = 0
     if not is_static(model, a):

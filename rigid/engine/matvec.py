@@ -48,3 +48,6 @@ def abs_max(a):
 def body_offset(model: ti.template(), i):
     """r0 of particle slot i (body frame, from the centre of mass), from its three columns."""
     return ti.Vector([model.r0_x[i], model.r0_y[i], model.r0_z[i]])
+
+
+ZERO3 = ti.Vector([0.0, 0.0, 0.0])  # (0, 0, 0) in the kernels' float type: a constant, no call to transform

@@ -32,7 +32,7 @@ import taichi as ti
 
 from . import broadphase as bp
 from . import grid, scan, schedule
-from .matvec import dot
+from .matvec import ZERO3, dot
 
 NEIGHBOURS_PER_PARTICLE = 16  # list slots per particle to start with (list_growth.py doubles them where needed)
 SKIN_FRACTION = 0.5  # skin = this × the largest particle diameter
@@ -174,8 +174,8 @@ def finish_list(state: ti.template(), scratch: ti.template(), i, parallel: ti.te
 @ti.func
 def no_pair_force(scratch: ti.template(), i):
     """A particle the pair stage will not visit (no candidate): no pair force or couple."""
-    scratch.particle_f[i] = ti.Vector.zero(float, 3)
-    scratch.particle_couple[i] = ti.Vector.zero(float, 3)
+    scratch.particle_f[i] = ZERO3
+    scratch.particle_couple[i] = ZERO3
 
 
 @ti.func

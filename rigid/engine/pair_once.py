@@ -35,7 +35,7 @@ import taichi as ti
 
 from . import broadphase as bp
 from . import candidates, neighbours, sleep, stages
-from .matvec import cross, dot
+from .matvec import ZERO3, cross, dot
 from .pair_stages import pair_between
 
 
@@ -148,7 +148,7 @@ def sweep(model: ti.template(), state: ti.template(), world: ti.template(), scra
     """Every active particle's pair force and couple, each pair evaluated once (on one thread;
     with ``sleeping`` compiled in, after mark_woken if a body is asleep: then body by body, the
     bodies _visited, over their runs of the active list, which keeps its order)."""
-    zero = ti.Vector.zero(float, 3)
+    zero = ZERO3
     k, kd, mu = stages.contact_constants(world)  # read once: the loops' stores may alias them for LLVM
     stride = neighbours.list_stride(scratch, state)
     if ti.static(sleeping):
@@ -208,8 +208,8 @@ def sweep_particle(model: ti.template(), state: ti.template(), scratch: ti.templ
     p = state.particle_x[i]
     r_a, x_a, v_a, w_a = body
     listed = scratch.nbr_count[i] <= stride
-    f = ti.Vector.zero(float, 3)  # an overflowed particle: lower slots gave it nothing
-    couple = ti.Vector.zero(float, 3)
+    f = ZERO3  # an overflowed particle: lower slots gave it nothing
+    couple = ZERO3
     if listed:
         f = scratch.particle_f[i]  # the pairs with lower slots, given in their turns
         couple = scratch.particle_couple[i]

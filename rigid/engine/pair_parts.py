@@ -39,6 +39,7 @@ import taichi as ti
 
 from . import broadphase as bp
 from . import candidates, neighbours, pair_once, pair_stages, part_cut, schedule, sleep, stages
+from .matvec import ZERO3
 from .pair_once import give, sweep_particle, touching
 from .pair_stages import pair_between
 
@@ -143,7 +144,7 @@ def sweep_part(model: ti.template(), state: ti.template(), world: ti.template(),
     """One part (its bodies after part_cut.cut_bodies, ascending): its sums zeroed, then at each
     listed particle's turn its terms from the other parts below it collected and its sweep turn
     run (with ``sleeping``, the pairs of two resting sleepers skipped, as pair_once's sweep does)."""
-    zero = ti.Vector.zero(float, 3)
+    zero = ZERO3
     k, kd, mu = stages.contact_constants(world)
     stride = neighbours.list_stride(scratch, state)
     r_max = bp.largest_radius(scratch)

@@ -39,6 +39,7 @@ import taichi as ti
 
 from . import neighbours
 from .arrays import download, upload, zeros
+from .matvec import ZERO3
 
 
 def kept_size(num_particles: int, lists: int, pairs: bool) -> int:
@@ -104,7 +105,7 @@ def carry(state: ti.template(), scratch: ti.template(), i):
         j = scratch.nbr_list[base + t]
         while u < m and scratch.contacts[kept + base + u] < j:
             u += 1
-        s = ti.Vector.zero(float, 3)
+        s = ZERO3
         if u < m and scratch.contacts[kept + base + u] == j:
             s = state.plane_slip[springs + size + base + u]
         state.plane_slip[springs + base + t] = s
@@ -139,7 +140,7 @@ def copy_to(state: ti.template(), scratch: ti.template(), i, j, e):
             else:
                 lo = mid + 1
         if lo > 0 and scratch.nbr_list[base + lo - 1] == i:  # ... follows i's
-            s = ti.Vector.zero(float, 3)
+            s = ZERO3
             if e >= 0:
                 s = spring(state, scratch, e)
             set_spring(state, scratch, base + lo - 1, s)

@@ -20,7 +20,7 @@ import taichi as ti
 
 from .contact import plane_force, plane_force_sticking
 from .materials import pair_mu, pair_restitution, plane_damping
-from .matvec import cross, dot
+from .matvec import ZERO3, cross, dot
 from .state import MATERIAL_TABLE, MATERIALS, MAX_PLANES, NUM_PLANES
 from .static_faces import on_face
 
@@ -76,5 +76,5 @@ def material_planes(c: ti.template(), i, p, r, f):
             c.state.plane_slip[slot] = slip + (memory * touching) * normal  # zero once clear
             c.contacts += touching
         else:
-            c.state.plane_slip[slot] = ti.Vector.zero(float, 3)
+            c.state.plane_slip[slot] = ZERO3
     return f

@@ -21,7 +21,7 @@ ModelArgs, ``state`` StateArgs, ``scratch`` ScratchArgs for RK4):
 """
 import taichi as ti
 
-from .matvec import body_offset, cross, matvec
+from .matvec import ZERO3, body_offset, cross, matvec
 from .rotation import quaternion_multiplication, quaternion_to_matrix
 
 RK4_NODES = (0.0, 0.5, 0.5, 1.0)  # c_s: stage s is evaluated at Y₀ + c_s Δt k_{s−1}
@@ -30,7 +30,7 @@ RK4_WEIGHTS = (1.0, 2.0, 2.0, 1.0)  # times Δt / 6
 
 @ti.func
 def store(u: ti.template(), model: ti.template(), state: ti.template(), b, x, q, P, L, R):
-    L_same, inertia_inv, omega = u.update_angular(L, ti.Vector.zero(float, 3), R, model.inertia_body_inv[b], 0.0)
+    L_same, inertia_inv, omega = u.update_angular(L, ZERO3, R, model.inertia_body_inv[b], 0.0)
     state.x[b], state.q[b], state.P[b], state.L[b] = x, q, P, L_same
     state.v[b], state.R[b], state.inertia_inv[b], state.omega[b] = P / model.body_mass[b], R, inertia_inv, omega
 
@@ -51,7 +51,7 @@ def euler_update(u: ti.template(), model: ti.template(), state: ti.template(), b
 def symplectic_update(u: ti.template(), model: ti.template(), state: ti.template(), b, dt, F, tau):
     x, q, P, L, R = state.x[b], state.q[b], state.P[b], state.L[b], state.R[b]
     M = model.body_mass[b]
-    zero = ti.Vector.zero(float, 3)
+    zero = ZERO3
     _x, P_new = u.update_linear(x, P, F, M, dt)  # momenta first ...
     L_new, _i, omega_mid = u.update_angular(L, tau, R, model.inertia_body_inv[b], dt)
     x_new, _P = u.update_linear(x, P_new, zero, M, dt)  # ... then move with the new v, ω

@@ -13,7 +13,7 @@ import taichi as ti
 
 from . import pair_stages, schedule
 from .contact import plane_energy
-from .matvec import abs_max, body_offset, cross, dot, matvec, norm
+from .matvec import ZERO3, abs_max, body_offset, cross, dot, matvec, norm
 from .state import DAMPING, FRICTION, GX, NUM_PLANES, STIFFNESS
 from .static_faces import faced, on_face
 
@@ -65,7 +65,7 @@ def set_at_rest(model: ti.template(), state: ti.template(), b):
     positive diagonal entry, whose product with +0 makes the row's sum +0); x, q, R and I⁻¹ stay
     what the update just stored. TODO 7 is not asked again for I⁻¹ L of a zero L: in the
     many-body kernels its code, matrix products and all, would be compiled a third time."""
-    zero = ti.Vector.zero(float, 3)
+    zero = ZERO3
     state.P[b], state.L[b], state.v[b], state.omega[b] = zero, zero, zero, zero
     R, x = state.R[b], state.x[b]
     for i in range(model.body_start[b], model.body_start[b] + model.body_count[b]):
@@ -128,8 +128,8 @@ def wrench(F, tau):
 @ti.func
 def body_wrench(model: ti.template(), scratch: ti.template(), b):
     """Stage 4's sum: F and τ (about x) on body b, its blocks' shares in block order."""
-    F = ti.Vector.zero(float, 3)
-    tau = ti.Vector.zero(float, 3)
+    F = ZERO3
+    tau = ZERO3
     blocks = model.body_blocks[b]
     for k in range(blocks[0], blocks[0] + blocks[1]):
         w = scratch.block_wrench[k]
