@@ -67,8 +67,8 @@ def run_local(tasks: list[dict], workers: int, on_result) -> None:
     finished = False
     try:
         while pending or any(w.task is not None for w in crew):
-            while pending and len(crew) < workers:
-                crew.append(_Worker(context))
+            while len(crew) < workers and len(pending) > sum(w.task is None for w in crew):
+                crew.append(_Worker(context))  # no more workers than tasks to give them
             for worker in crew:
                 if worker.task is None and pending:
                     worker.give(pending.popleft())
