@@ -148,7 +148,6 @@ def sweep(model: ti.template(), state: ti.template(), world: ti.template(), scra
     """Every active particle's pair force and couple, each pair evaluated once (on one thread;
     with ``sleeping`` compiled in, after mark_woken if a body is asleep: then body by body, the
     bodies _visited, over their runs of the active list, which keeps its order)."""
-    zero = ZERO3
     k, kd, mu = stages.contact_constants(world)  # read once: the loops' stores may alias them for LLVM
     stride = neighbours.list_stride(scratch, state)
     if ti.static(sleeping):
@@ -156,8 +155,8 @@ def sweep(model: ti.template(), state: ti.template(), world: ti.template(), scra
             if _visited(state, scratch, b, sleeping):
                 first, end = bp.body_active_range(scratch, b)
                 for t in range(first, end):
-                    scratch.particle_f[scratch.active[t]] = zero
-                    scratch.particle_couple[scratch.active[t]] = zero
+                    scratch.particle_f[scratch.active[t]] = ZERO3
+                    scratch.particle_couple[scratch.active[t]] = ZERO3
         for b in range(state.x.shape[0]):
             if _visited(state, scratch, b, sleeping):
                 a_rests = sleep.resting(state, b)
@@ -170,8 +169,8 @@ def sweep(model: ti.template(), state: ti.template(), world: ti.template(), scra
     else:
         for t in range(neighbours.num_active(scratch)):
             i = scratch.active[t]
-            scratch.particle_f[i] = zero
-            scratch.particle_couple[i] = zero
+            scratch.particle_f[i] = ZERO3
+            scratch.particle_couple[i] = ZERO3
         for t in range(neighbours.num_active(scratch)):
             i = scratch.active[t]
             a = model.particle_body[i]

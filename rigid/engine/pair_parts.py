@@ -144,7 +144,6 @@ def sweep_part(model: ti.template(), state: ti.template(), world: ti.template(),
     """One part (its bodies after part_cut.cut_bodies, ascending): its sums zeroed, then at each
     listed particle's turn its terms from the other parts below it collected and its sweep turn
     run (with ``sleeping``, the pairs of two resting sleepers skipped, as pair_once's sweep does)."""
-    zero = ZERO3
     k, kd, mu = stages.contact_constants(world)
     stride = neighbours.list_stride(scratch, state)
     r_max = bp.largest_radius(scratch)
@@ -152,8 +151,8 @@ def sweep_part(model: ti.template(), state: ti.template(), world: ti.template(),
         if bp.part_of(scratch, b) == part:
             for i in range(model.body_start[b], model.body_start[b] + model.body_count[b]):
                 if scratch.nbr_count[i] > 0:
-                    scratch.particle_f[i] = zero
-                    scratch.particle_couple[i] = zero
+                    scratch.particle_f[i] = ZERO3
+                    scratch.particle_couple[i] = ZERO3
     for b in range(state.x.shape[0]):
         if bp.part_of(scratch, b) == part:
             a_rests = False

@@ -51,10 +51,9 @@ def euler_update(u: ti.template(), model: ti.template(), state: ti.template(), b
 def symplectic_update(u: ti.template(), model: ti.template(), state: ti.template(), b, dt, F, tau):
     x, q, P, L, R = state.x[b], state.q[b], state.P[b], state.L[b], state.R[b]
     M = model.body_mass[b]
-    zero = ZERO3
     _x, P_new = u.update_linear(x, P, F, M, dt)  # momenta first ...
     L_new, _i, omega_mid = u.update_angular(L, tau, R, model.inertia_body_inv[b], dt)
-    x_new, _P = u.update_linear(x, P_new, zero, M, dt)  # ... then move with the new v, ω
+    x_new, _P = u.update_linear(x, P_new, ZERO3, M, dt)  # ... then move with the new v, ω
     q_new = u.update_orientation(q, omega_mid, dt)
     store(u, model, state, b, x_new, q_new, P_new, L_new, quaternion_to_matrix(q_new))
 

@@ -65,11 +65,10 @@ def set_at_rest(model: ti.template(), state: ti.template(), b):
     positive diagonal entry, whose product with +0 makes the row's sum +0); x, q, R and I⁻¹ stay
     what the update just stored. TODO 7 is not asked again for I⁻¹ L of a zero L: in the
     many-body kernels its code, matrix products and all, would be compiled a third time."""
-    zero = ZERO3
-    state.P[b], state.L[b], state.v[b], state.omega[b] = zero, zero, zero, zero
+    state.P[b], state.L[b], state.v[b], state.omega[b] = ZERO3, ZERO3, ZERO3, ZERO3
     R, x = state.R[b], state.x[b]
     for i in range(model.body_start[b], model.body_start[b] + model.body_count[b]):
-        place_body_particle(model, state, i, R, x, zero, zero)
+        place_body_particle(model, state, i, R, x, ZERO3, ZERO3)
 
 
 @ti.func
