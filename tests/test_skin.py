@@ -54,6 +54,22 @@ def test_a_changing_skin_keeps_the_bits_while_bodies_fall_asleep(sim_cache, monk
         assert np.array_equal(a[key], b[key]), (key, np.abs(a[key] - b[key]).max())
 
 
+def _pile_run(sim_cache):
+    """pile.toml for 150 frames: (the simulator, the first frame with a sleeper)."""
+    from rigid.config import load_scene
+
+    sim = sim_cache(**load_scene(ASSETS / "scenes" / "pile.toml"))
+    first_asleep = None
+    for frame in range(1, 151):
+        sim.step_frame()
+        if first_asleep is None and sim.asleep().any():
+            first_asleep = frame
+    return sim, first_asleep
+
+
+_UNCHANGED = {}  # the unchanged pile's run: the same for both changes below, so run once
+
+
 @pytest.mark.parametrize("change", ["skin", "refresh"])
 def test_the_pile_keeps_its_bits_whatever_the_rebuilds_once_bodies_sleep(sim_cache, monkeypatch, change):
     """pile.toml's volume bodies: runs whose lists are rebuilt at other times (a skin that shrinks
@@ -63,24 +79,16 @@ def test_the_pile_keeps_its_bits_whatever_the_rebuilds_once_bodies_sleep(sim_cac
     from frame 90 (the skin) or 108 (the partial rebuilds) as users compile the kernels. Compiled
     for tests (rigid.runtime's quick_compile) they happened to agree even so: the next test checks
     the rule itself."""
-    from rigid.config import load_scene
     from rigid.engine import refresh, skin
 
-    scene = load_scene(ASSETS / "scenes" / "pile.toml")
-    runs = []
-    for changed in (False, True):
-        if changed and change == "skin":
-            monkeypatch.setattr(skin, "SHRINK_ABOVE", 0.0)
-        if changed and change == "refresh":
-            monkeypatch.setattr(refresh, "REFRESH_FRACTION", 0.0)
-        sim = sim_cache(**scene)
-        first_asleep = None
-        for frame in range(1, 151):
-            sim.step_frame()
-            if first_asleep is None and sim.asleep().any():
-                first_asleep = frame
-        runs.append((sim, first_asleep))
-    (a, first_asleep), (b, _first) = runs
+    if "run" not in _UNCHANGED:
+        _UNCHANGED["run"] = _pile_run(sim_cache)
+    a, first_asleep = _UNCHANGED["run"]
+    if change == "skin":
+        monkeypatch.setattr(skin, "SHRINK_ABOVE", 0.0)
+    if change == "refresh":
+        monkeypatch.setattr(refresh, "REFRESH_FRACTION", 0.0)
+    b, _first = _pile_run(sim_cache)
     assert first_asleep is not None and first_asleep < 120  # 30 frames and more with sleepers
     assert a.asleep().sum() < a.num_bodies  # among moving bodies
     assert a.neighbour_builds != b.neighbour_builds  # (so the lists were rebuilt at other times)
