@@ -18,6 +18,37 @@ from .errors import UserError
 
 _initialised: dict | None = None
 
+# The serial schedule's frame kernel (rigid.engine.kernels: run_frames, the whole frame on one
+# thread) compiles without Taichi's whole-kernel common-subexpression pass (opt_level 0): that
+# pass took over half of a cold compile of bodies in contact (its cost grows with the kernel's
+# size times its duplicate statements), and LLVM eliminates the same subexpressions again in the
+# machine code. Without it, Taichi 1.7.4's loop-invariant caching (cache_loop_invariant_global_vars)
+# is wrong: it keeps an array element in a local through a one-thread loop but redirects only the
+# accesses through the same pointer statement, which the CSE pass had merged; another access to
+# the element, through a duplicate pointer, goes to memory beside the cached copy, and the copy
+# written back at the loop's end undoes its stores (the broadphase's counters lost their updates
+# and the pair sweep read past its list; tests/test_compile_settings.py). So both go off
+# together: opt_level is part of Taichi's disk-cache key, the caching flag is not, and this
+# pairing keeps the two from mixing. The other kernels keep Taichi's defaults: the parallel
+# schedule's run ~7 % slower on a 1,000-pile without the caching. report/bench_versions.md.
+CSE_OFF = dict(opt_level=0, cache_loop_invariant_global_vars=False)
+
+
+@contextlib.contextmanager
+def compile_settings(**options):
+    """Kernels compiled inside compile with these Taichi CompileConfig ``options`` (CSE_OFF, or
+    rigid.diff.passes's); the process's own are restored after. A kernel must be
+    compiled with the same options at every launch (the launch looks it up by its settings)."""
+    config = ti.lang.impl.current_cfg()
+    before = {name: getattr(config, name) for name in options}
+    for name, value in options.items():
+        setattr(config, name, value)
+    try:
+        yield
+    finally:
+        for name, value in before.items():
+            setattr(config, name, value)
+
 
 QUICK_COMPILE_ENV = "RIGID_QUICK_COMPILE"  # "1": quick_compile by default (the test suite sets it)
 
@@ -49,7 +80,7 @@ def init_taichi(arch: str = "cpu", fp64: bool = False, debug: bool = False, quic
     # cfg_optimization: Taichi's control-flow-graph passes (store-to-load forwarding, dead
     # stores) grow steeply with a kernel's size: they were most of a first compile of bodies in
     # contact and bought nothing measurable at run time (report/bench_first_run.md), so they are
-    # off (rigid.diff turns them on for its own kernels: passes.compile_options).
+    # off (rigid.diff turns them on for its own kernels: its compile settings, passes.py).
     common = dict(default_fp=fp, log_level=ti.WARN, offline_cache=True, debug=debug,
                   random_seed=0, advanced_optimization=not quick_compile, cfg_optimization=False)
     if arch not in ARCHES:
@@ -109,3 +140,15 @@ def _quiet_init(**kwargs):
     # ti.init prints "[Taichi] Starting on arch=..." to stdout; keep stdout for results.
     with contextlib.redirect_stdout(sys.stderr):
         ti.init(**kwargs)
+
+
+class SettingsKernel:
+    """A Taichi kernel that compiles with its own ``settings`` (compile_settings): called plainly,
+    or launched by rigid.engine.launch, which reads ``settings`` and ``_primal``."""
+
+    def __init__(self, kernel, settings: dict):
+        self.kernel, self.settings, self._primal = kernel, settings, kernel._primal
+
+    def __call__(self, *args):
+        with compile_settings(**self.settings):
+            return self.kernel(*args)

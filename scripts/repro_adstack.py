@@ -4,7 +4,7 @@ An ad-stack (a mutable local in a loop of a reverse-mode kernel) is sized to the
 holds, but allocated with a 4-byte header where the runtime uses 8: a full stack's top adjoint
 overhangs into the next local on the native stack. The explicit Euler update (TODO 6 renormalises
 q: a full stack) in a loop two levels below the top, as in the fused adjoint, gives gradients that
-depend on what the native stack held; with spare entries (passes.compile_options), exact ones.
+depend on what the native stack held; with spare entries (as rigid.diff.passes compiles them), exact ones.
 """
 import sys
 from pathlib import Path
@@ -18,7 +18,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 ti.init(arch=ti.cpu, default_fp=ti.f64, offline_cache=False, log_level=ti.WARN, cfg_optimization=False,
         advanced_optimization=False)
 
-from rigid.diff.passes import compile_options  # noqa: E402
+from rigid.runtime import compile_settings  # noqa: E402
 from rigid.engine.rotation import quaternion_to_matrix  # noqa: E402
 from rigid.engine.units import default_units  # noqa: E402
 
@@ -87,7 +87,7 @@ def main():
     reference = adjoint(lambda: [one.grad(s, NB, dt) for s in reversed(range(S))])
     for name, kernel, entries in (("sized by Taichi", fused_kernel(), 0), ("with spare entries", fused_kernel(), 8)):
         errors = []
-        with compile_options(ad_stack_size=entries):
+        with compile_settings(ad_stack_size=entries):
             for value in (None, 1e100, -3.0):
                 if value is not None:
                     scribble(value)

@@ -96,7 +96,7 @@ def test_the_gradient_at_a_point_is_the_same_after_runs_at_other_values(results)
 def test_a_float32_gradient_through_a_bounce_agrees_with_float64(ti_cpu, results):
     # The suite's process computes in float32, where the 4 bytes Taichi 1.7's ad-stacks lacked are
     # a whole adjoint: this gradient was 3.6 % off (v0's y) before the pass's adjoints were
-    # compiled with spare entries (rigid.diff.passes.compile_options).
+    # compiled with spare entries (rigid.diff.passes, its compile settings).
     import rigid
     from gradients_fp64_worker import FLOAT32_CASE, float32_case_cotangent
 

@@ -20,8 +20,8 @@ A contact is a thread of its own (the materials' damper is a table lookup whose 
 long: unrolled over the planes in one particle's thread it took over a minute to compile), and
 the per-particle sum over planes is unrolled (their count is a compile-time constant). Inside
 ``advance`` every stage is a loop below the top, so its mutable locals (that sum among them: the
-planes' count + 2 values) live on Taichi's ad-stacks, which rigid.diff.passes.compile_options
-sizes. The engine skips planes out of a block's reach; a skipped plane's force is exactly zero,
+planes' count + 2 values) live on Taichi's ad-stacks, sized by rigid.diff.passes's compile
+settings. The engine skips planes out of a block's reach; a skipped plane's force is exactly zero,
 so summing every plane gives the same force.
 """
 

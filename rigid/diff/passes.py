@@ -13,11 +13,11 @@ one more forward run of every segment but the last (none when the run is one seg
 from __future__ import annotations
 
 import time
-from contextlib import contextmanager
 
 import numpy as np
 
 from ..errors import UserError
+from ..runtime import compile_settings
 from . import kernels as kernel_module
 from .tape import Tape
 
@@ -30,38 +30,25 @@ AD_STACK_SPARE = 32  # ad-stack entries the kernels are compiled with, beyond th
 _TAPES: dict = {}
 
 
-@contextmanager
-def compile_options(**options):
-    """Kernels first launched inside compile with these Taichi CompileConfig ``options``; the
-    process's own are restored after (rigid.runtime's serve the engine). The pass uses three:
-
-    - ``cfg_optimization=True``: Taichi's store-to-load forwarding and dead-store passes, which the
-      engine goes without for its compile time, make the fused adjoint about 3x faster and the
-      forward 1.3x for a few seconds more of its first compile.
-    - ``ad_stack_size`` (AD_STACK_SPARE + the planes' count). A mutable local in a loop of a
-      reverse-mode kernel lives on an ad-stack; Taichi 1.7 sizes each to the most values it holds
-      (``ad_stack_size = 0``), but allocates its header as 4 bytes where the runtime uses 8, so a
-      full stack's top adjoint overhangs its allocation by 4 bytes into the neighbouring local:
-      silent, and dependent on what earlier kernels left on the native stack (``advance``'s adjoint
-      drifted after other kernels ran). With more entries than any local takes in one iteration
-      of a stage, no stack is ever full: the force sum over the planes takes the planes' count + 2
-      values, the other locals (the repository's TODO units included) at most 5.
-    - ``force_scalarize_matrix=True``: matrices are split into scalars before reverse mode runs, not
-      after. Differentiated as matrices, TODO 7's ``R @ I0⁻¹ @ Rᵀ`` alone compiles for ~1.8 s (its
-      adjoint is one long block that Taichi's passes edit in quadratic time). Split, a ball's first
-      gradient compiles in ~8 s; whole, ~28 s (quick_compile: ~6 and ~9 s, and the split adjoint
-      runs ~3x slower without the CFG passes); the values agree to round-off."""
-    from taichi.lang import impl
-
-    config = impl.current_cfg()
-    before = {name: getattr(config, name) for name in options}
-    for name, value in options.items():
-        setattr(config, name, value)
-    try:
-        yield
-    finally:
-        for name, value in before.items():
-            setattr(config, name, value)
+# The pass's kernels compile with these settings (rigid.runtime.compile_settings, around each
+# kernel's launches: self.options):
+#
+# - ``cfg_optimization=True``: Taichi's store-to-load forwarding and dead-store passes, which the
+#   engine goes without for its compile time, make the fused adjoint about 3x faster and the
+#   forward 1.3x for a few seconds more of its first compile.
+# - ``ad_stack_size`` (AD_STACK_SPARE + the planes' count). A mutable local in a loop of a
+#   reverse-mode kernel lives on an ad-stack; Taichi 1.7 sizes each to the most values it holds
+#   (``ad_stack_size = 0``), but allocates its header as 4 bytes where the runtime uses 8, so a
+#   full stack's top adjoint overhangs its allocation by 4 bytes into the neighbouring local:
+#   silent, and dependent on what earlier kernels left on the native stack (``advance``'s adjoint
+#   drifted after other kernels ran). With more entries than any local takes in one iteration
+#   of a stage, no stack is ever full: the force sum over the planes takes the planes' count + 2
+#   values, the other locals (the repository's TODO units included) at most 5.
+# - ``force_scalarize_matrix=True``: matrices are split into scalars before reverse mode runs, not
+#   after. Differentiated as matrices, TODO 7's ``R @ I0⁻¹ @ Rᵀ`` alone compiles for ~1.8 s (its
+#   adjoint is one long block that Taichi's passes edit in quadratic time). Split, a ball's first
+#   gradient compiles in ~8 s; whole, ~28 s (quick_compile: ~6 and ~9 s, and the split adjoint
+#   runs ~3x slower without the CFG passes); the values agree to round-off.
 
 
 def _power_of_two(n: int, least: int) -> int:
@@ -117,7 +104,7 @@ class Pass:
                                                             key[5] <= SERIAL_PARTICLES))
         self.tape, self.k = _TAPES[key, steps]
         self.serial = key[5] <= SERIAL_PARTICLES
-        self.options = dict(cfg_optimization=True, ad_stack_size=AD_STACK_SPARE + P,  # compile_options
+        self.options = dict(cfg_optimization=True, ad_stack_size=AD_STACK_SPARE + P,  # the settings above
                             force_scalarize_matrix=True)
         self.tape.load(problem)
         self.checkpoints: list = []
@@ -171,7 +158,7 @@ class Pass:
 
     def forward(self) -> dict:
         """Run the scene; returns the rows (as rigid.Simulator.advance, float64)."""
-        with compile_options(**self.options):
+        with compile_settings(**self.options):
             self._forward()
         return self.rows()
 
@@ -198,7 +185,7 @@ class Pass:
         field (rigid.diff.tape.Tape.PARAMETERS), as float64 numpy."""
         t = self.tape
         self.seconds = dict(rerun=0.0, adjoint=0.0)
-        with compile_options(**self.options):
+        with compile_settings(**self.options):
             if not t.clean:  # a backward stopped half-way: its adjoints may be anywhere
                 for f in (t.fc, t.slip, *t.row_fields().values()):
                     f.grad.fill(0)

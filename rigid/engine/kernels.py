@@ -15,6 +15,7 @@ Two schedules run the same substep (substep.py: ``place``, then ``step``), chose
 
 import taichi as ti
 
+from ..runtime import CSE_OFF, SettingsKernel
 from . import schemes, sleep, split_substep, stages, substep
 from .arrays import ModelArgs, RowArgs, ScratchArgs, StateArgs, SurfaceArgs, WorldArgs
 from .matvec import body_offset, matvec
@@ -168,5 +169,7 @@ class EngineKernels:
         self.place_surfaces = place_surfaces
         # The parallel substep in parts the host launches, passing over the rebuild (split_substep.py).
         self.split = split_substep.make(plan) if pairs and not rk4 else None
-        self.run_frames, self.substep, self.finish_frame = run_frames, one_substep, finish_frame
+        # The frame on one thread: the largest kernel, compiled without the whole-kernel CSE pass.
+        self.run_frames = SettingsKernel(run_frames, CSE_OFF)
+        self.substep, self.finish_frame = one_substep, finish_frame
         self.init_bodies, self.apply_impulse, self.sum_inertia = init_bodies, apply_impulse, sum_inertia

@@ -20,6 +20,7 @@ not as expected it falls back to the plain call, which gives the same results.
 """
 from __future__ import annotations
 
+from ..runtime import compile_settings
 from . import broadphase
 from .arrays import _cpu_pointer, byte_size
 from .broadphase_host import cell
@@ -131,8 +132,18 @@ def _prepare(kernel, args):
     program = impl.get_runtime().prog
     addresses = [_cpu_pointer(array) for _index, array in arrays + later]
 
-    def compiled():
-        return program.compile_kernel(program.config(), program.get_device_caps(), t_kernel)
+    settings = getattr(kernel, "settings", None)  # rigid.runtime.SettingsKernel's
+    if settings is None:
+        def compiled():
+            return program.compile_kernel(program.config(), program.get_device_caps(), t_kernel)
+    else:
+        held = []  # Taichi's own cache holds it for the program's life: looked up once, as compiled
+
+        def compiled():
+            if not held:
+                with compile_settings(**settings):
+                    held.append(program.compile_kernel(program.config(), program.get_device_caps(), t_kernel))
+            return held[0]
 
     def set_ints(context, scalars):
         for name, value in scalars.items():
