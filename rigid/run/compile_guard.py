@@ -50,5 +50,5 @@ def kernel_cache_is_empty() -> bool:
 def compile_note() -> None:
     """One line before a first run, which compiles for a while."""
     if kernel_cache_is_empty():
-        print("compiling kernels (first run only: up to about 20 s for bodies in contact); Ctrl-C stops at once",
+        print("compiling kernels (first run only: up to about 10 s for bodies in contact); Ctrl-C stops at once",
               file=sys.stderr, flush=True)
