@@ -28,14 +28,18 @@ PLANES_AT_LEAST = 5  # the box's floor and four walls
 BODIES_AT_LEAST = 2  # a lone body's tape serves two (a body's fields are ~350 bytes a step)
 AD_STACK_SPARE = 32  # ad-stack entries the kernels are compiled with, beyond the planes' count
 _TAPES: dict = {}
+ADJOINT = dict(cfg_optimization=True)  # the adjoint kernels' settings beyond the pass's (below)
 
 
 # The pass's kernels compile with these settings (rigid.runtime.compile_settings, around each
-# kernel's launches: self.options):
+# kernel's launches: self.options, and ADJOINT around the adjoints' own):
 #
-# - ``cfg_optimization=True``: Taichi's store-to-load forwarding and dead-store passes, which the
-#   engine goes without for its compile time, make the fused adjoint about 3x faster and the
-#   forward 1.3x for a few seconds more of its first compile.
+# - ``cfg_optimization=True`` for the adjoint kernels only (ADJOINT): Taichi's store-to-load
+#   forwarding and dead-store passes, which the engine goes without for its compile time, make the
+#   fused adjoint about 3x faster for a few seconds more of its first compile. The forward kernels
+#   go without them: compiled with them (Taichi 1.7.4, its default compile), a box resting on the
+#   floor left its tape so that the stiffness gradient came out NaN (tests/test_gradients.py's
+#   resting box, under RIGID_QUICK_COMPILE=0; the suite's quick compile runs no CFG pass).
 # - ``ad_stack_size`` (AD_STACK_SPARE + the planes' count). A mutable local in a loop of a
 #   reverse-mode kernel lives on an ad-stack; Taichi 1.7 sizes each to the most values it holds
 #   (``ad_stack_size = 0``), but allocates its header as 4 bytes where the runtime uses 8, so a
@@ -104,8 +108,7 @@ class Pass:
                                                             key[5] <= SERIAL_PARTICLES))
         self.tape, self.k = _TAPES[key, steps]
         self.serial = key[5] <= SERIAL_PARTICLES
-        self.options = dict(cfg_optimization=True, ad_stack_size=AD_STACK_SPARE + P,  # the settings above
-                            force_scalarize_matrix=True)
+        self.options = dict(ad_stack_size=AD_STACK_SPARE + P, force_scalarize_matrix=True)  # the settings above
         self.tape.load(problem)
         self.checkpoints: list = []
         self.seconds = dict(rerun=0.0, adjoint=0.0)  # of the last backward
@@ -213,19 +216,21 @@ class Pass:
             if g < self.num_segments - 1:
                 t.set_checkpoint(self._carried)
                 t.restore_grad(end, B, N)
-            if self.serial and self.fused:
-                k.advance.grad(0, end, N, B, dt, g * self.segment, self.substeps, 1)
-                if g == 0:
-                    k.rows.grad(0, 0, B)
-            else:
-                for s in range(end, -1, -1):
-                    frame = self._frame_at(g, s)
-                    if frame is not None and (s > 0 or g == 0):
-                        k.rows.grad(s, frame, B)
-                    if s > 0:
-                        k.substep.grad(s - 1, N, B, dt)
+            with compile_settings(**ADJOINT):
+                if self.serial and self.fused:
+                    k.advance.grad(0, end, N, B, dt, g * self.segment, self.substeps, 1)
+                    if g == 0:
+                        k.rows.grad(0, 0, B)
+                else:
+                    for s in range(end, -1, -1):
+                        frame = self._frame_at(g, s)
+                        if frame is not None and (s > 0 or g == 0):
+                            k.rows.grad(s, frame, B)
+                        if s > 0:
+                            k.substep.grad(s - 1, N, B, dt)
             if g > 0:
                 t.save_grad(0, B, N)
                 self._carried = t.checkpoint()
             self.seconds["adjoint"] += time.perf_counter() - start
-        k.start.grad(N, B)
+        with compile_settings(**ADJOINT):
+            k.start.grad(N, B)
