@@ -153,6 +153,7 @@ def test_reach_test_never_misses_a_particle_behind_a_plane(units):
     slack = 2 * np.linalg.norm(r0.max(axis=0) - r0.min(axis=0))
     flagged = 0
     offsets = sim.model.r0_np  # slot order, about the centre of mass
+    starts, counts = sim.model.block_start.to_numpy(), sim.model.block_count.to_numpy()
     for t in range(trials):
         sim.state.x.from_numpy(xs[t:t + 1].astype(np.float32))
         sim.state.R.from_numpy(mats[t:t + 1].astype(np.float32))
@@ -160,7 +161,7 @@ def test_reach_test_never_misses_a_particle_behind_a_plane(units):
         flags(sim.model.args, sim.state.args, sim.params.args, got)
         p = xs[t] + offsets @ mats[t].T
         for b in range(k):
-            pb = p[64 * b: 64 * (b + 1)]
+            pb = p[starts[b]: starts[b] + counts[b]]
             # Depth behind each plane of the box, in the engine's plane order.
             depth = np.stack([-1 - pb[:, 1], -1 - pb[:, 0], pb[:, 0] - 1, -1 - pb[:, 2], pb[:, 2] - 1]).max(axis=1)
             assert np.all(got[b][depth > 0] == 1), (t, b, depth, got[b])  # never a miss

@@ -6,15 +6,15 @@ extents h) and the sphere about c that holds them (reach ρ); once per substep t
 moved to the world by (x, R), say which static planes a particle of the block may touch,
 and the block's particles are tested against those planes only: the others' forces would
 be exactly zero there. A body in flight tests no plane at all. (The box is the tighter
-bound for flat and cubic blocks: a torus at rest reaches the floor with 20 of its 64
-blocks by their boxes, 48 by their spheres; the sphere for round ones.) The block is also
+bound for flat and cubic blocks: a torus at rest reaches the floor with 13 of its 32
+blocks by their boxes, 31 by their spheres; the sphere for round ones.) The block is also
 the unit of summation: F and τ are summed per block over its particles in slot order, then
 over the body's blocks in block order, so the sums do not depend on how many threads ran
 the blocks.
 
 Blocks are cut from the body's particles sorted along a Morton (Z-order) curve
 of their body-frame positions, so consecutive particles are close in space: a
-volume-sampled body gives 4×4×4-cell cubes. The order inside the blocks is
+volume-sampled body gives 8×4×4-cell boxes. The order inside the blocks is
 this sorted order, which is the Model's slot order (``Model.order``, ``Model.slot_of``).
 
 The layout (numpy arrays), N particles, K blocks, B bodies:
@@ -30,12 +30,16 @@ from __future__ import annotations
 
 import numpy as np
 
-SMALL_BLOCK = 64  # particles per block for bodies up to MANY_BLOCKS * SMALL_BLOCK particles
+# Particles per block for bodies up to MANY_BLOCKS * SMALL_BLOCK particles. Each block costs a
+# reach test and a share of the sums every substep: 128 ran a lone big mesh (the course's cat,
+# the torus, a 4,096-particle cube) 11-20 % faster than 64, whose tighter bounds test fewer
+# particles against the planes, and 256 no faster again (report/bench_versions.md).
+SMALL_BLOCK = 128
 MANY_BLOCKS = 4096  # bigger bodies get bigger blocks, so the per-substep sum over blocks stays short
 
 
 def block_size_for(num_particles: int) -> int:
-    """64 particles per block, doubled until a body has at most ~4096 blocks (1M -> 256)."""
+    """128 particles per block, doubled until a body has at most ~4096 blocks (1M -> 256)."""
     size = SMALL_BLOCK
     while num_particles > MANY_BLOCKS * size:
         size *= 2

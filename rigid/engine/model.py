@@ -3,7 +3,7 @@
 Built once from the bodies' particles, read by every substep, never written by it.
 B bodies, N particles, K blocks; the particles of all bodies live in one flat array,
 body by body, and inside a body in blocks (``blocks.py``: spatially compact runs of at
-most 64 particles, sorted along a Z-order curve). Device arrays (Taichi ndarrays; float
+most 128 particles, sorted along a Z-order curve). Device arrays (Taichi ndarrays; float
 is the run's precision, f32 or f64), all read-only during a run:
 
 - ``r0_x``, ``r0_y``, ``r0_z``  [N] float  particle offset from its body's centre of mass, body frame,

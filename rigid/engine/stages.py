@@ -93,7 +93,7 @@ def planes_in_reach(model: ti.template(), state: ti.template(), world: ti.templa
     a rotation or not (a TODO unit may let q drift from unit length). The plane is skipped
     when even that bound leaves the sphere (radius r) clear of it, padded by CLEAR_MARGIN for
     round-off. Both bounds, as each is the tighter for some blocks: a torus at rest reaches
-    the floor with 20 of its 64 blocks by their boxes, 48 by their spheres; a round block's
+    the floor with 13 of its 32 blocks by their boxes, 31 by their spheres; a round block's
     sphere is up to √3 tighter than its box. Exact along a world axis (the box's planes)."""
     b = model.block_body[k]
     x, R = state.x[b], state.R[b]
