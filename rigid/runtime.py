@@ -80,7 +80,7 @@ def init_taichi(arch: str = "cpu", fp64: bool = False, debug: bool = False, quic
     # cfg_optimization: Taichi's control-flow-graph passes (store-to-load forwarding, dead
     # stores) grow steeply with a kernel's size: they were most of a first compile of bodies in
     # contact and bought nothing measurable at run time (report/bench_first_run.md), so they are
-    # off (rigid.diff turns them on for its own kernels: its compile settings, passes.py).
+    # off (rigid.diff turns them on for its adjoint kernels: passes.ADJOINT).
     common = dict(default_fp=fp, log_level=ti.WARN, offline_cache=True, debug=debug,
                   random_seed=0, advanced_optimization=not quick_compile, cfg_optimization=False)
     if arch not in ARCHES:
