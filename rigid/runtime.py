@@ -29,8 +29,9 @@ _initialised: dict | None = None
 # written back at the loop's end undoes its stores (the broadphase's counters lost their updates
 # and the pair sweep read past its list; tests/test_compile_settings.py). So both go off
 # together: opt_level is part of Taichi's disk-cache key, the caching flag is not, and this
-# pairing keeps the two from mixing. The other kernels keep Taichi's defaults: the parallel
-# schedule's run ~7 % slower on a 1,000-pile without the caching. report/bench_versions.md.
+# pairing keeps the two from mixing. The parallel schedule's forces and update on a CPU
+# (split_substep.py) compile so too; the other kernels keep Taichi's defaults: the parallel
+# schedule's other parts ran a 1,000-pile ~7 % slower without the caching. report/bench_versions.md.
 CSE_OFF = dict(opt_level=0, cache_loop_invariant_global_vars=False)
 
 

@@ -21,6 +21,7 @@ active list again (the 24,000-body pile: ~42 µs a refreshed body with all of it
 """
 import taichi as ti
 
+from ..runtime import CSE_OFF, SettingsKernel
 from . import broadphase, find_pairs, pair_stages, refresh, substep
 from .arrays import ModelArgs, ScratchArgs, StateArgs, WorldArgs
 from .state import DT
@@ -65,4 +66,8 @@ def make(plan) -> SplitSubstep:
     def forces(model: M, state: S, world: W, scratch: C):
         substep.step(plan, model, state, world, scratch, True, world.values[DT], 0, 1.0)
 
-    return SplitSubstep(motion, refresh_lists if refreshing else None, build, place, forces)
+    # The forces and the update, the largest of the parts, compile as the serial schedule's frame
+    # does (rigid.runtime.CSE_OFF: half a many-body scene's first compile on this schedule, and
+    # no measurable speed); the others keep Taichi's loop-invariant caching, which they run faster
+    # with (report/bench_versions.md).
+    return SplitSubstep(motion, refresh_lists if refreshing else None, build, place, SettingsKernel(forces, CSE_OFF))
