@@ -151,12 +151,10 @@ def reference_x(scratch: ti.template(), b):
 
 
 @ti.func
-def reference_pose(scratch: ti.template(), b):
-    """(x, R) of body b at the last build or its last refresh."""
-    x = reference_x(scratch, b)
-    R = ti.Matrix([[scratch.broadphase_body_floats[b, POSE_R[3 * r + c]] for c in ti.static(range(3))]
-                   for r in ti.static(range(3))])
-    return x, R
+def reference_R(scratch: ti.template(), b):
+    """R of body b at the last build or its last refresh."""
+    return ti.Matrix([[scratch.broadphase_body_floats[b, POSE_R[3 * r + c]] for c in ti.static(range(3))]
+                      for r in ti.static(range(3))])
 
 
 @ti.func

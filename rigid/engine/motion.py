@@ -58,9 +58,7 @@ def body_dx(scratch: ti.template(), state: ti.template(), b):
 @ti.func
 def body_shift(scratch: ti.template(), state: ti.template(), b):
     """(Δx of body b since the last build, the bound _turn_norm(R, R_build) ρ_b)."""
-    x0, R0 = bp.reference_pose(scratch, b)
-    dx = state.x[b] - x0
-    return dx, _turn_norm(state.R[b], R0) * bp.body_radius(scratch, b)
+    return body_dx(scratch, state, b), _turn_norm(state.R[b], bp.reference_R(scratch, b)) * bp.body_radius(scratch, b)
 
 
 @ti.func
