@@ -132,18 +132,14 @@ def _prepare(kernel, args):
     program = impl.get_runtime().prog
     addresses = [_cpu_pointer(array) for _index, array in arrays + later]
 
-    settings = getattr(kernel, "settings", None)  # rigid.runtime.SettingsKernel's
-    if settings is None:
-        def compiled():
-            return program.compile_kernel(program.config(), program.get_device_caps(), t_kernel)
-    else:
-        held = []  # Taichi's own cache holds it for the program's life: looked up once, as compiled
+    settings = getattr(kernel, "settings", {})  # rigid.runtime.SettingsKernel's, else the process's
+    held = []  # Taichi's own cache holds it for the program's life: looked up once, as compiled
 
-        def compiled():
-            if not held:
-                with compile_settings(**settings):
-                    held.append(program.compile_kernel(program.config(), program.get_device_caps(), t_kernel))
-            return held[0]
+    def compiled():
+        if not held:
+            with compile_settings(**settings):
+                held.append(program.compile_kernel(program.config(), program.get_device_caps(), t_kernel))
+        return held[0]
 
     def set_ints(context, scalars):
         for name, value in scalars.items():
