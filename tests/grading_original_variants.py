@@ -132,8 +132,9 @@ SUBSTITUTIONS = {
         L7I: "    body_inverse_inertia = body_rotation[None].transpose() @ body_origin_inverse_inertia[None] @ "
              "body_rotation[None]\n",
         'file_path = "sphere.obj"': 'file_path = "dan_brick.obj"'}),
-    # bonus_inside's terms in bonus_friction's file (its own name total_force, TODO 5 position-first)
-    "bonus_inside_friction": ("solved", {
+    # bonus_inside's terms in bonus_friction's file (its own name total_force, TODO 5 position-first), in
+    # black_formatted's layout (black's lines in TODOs 1, 6, 7 and in the given code): one file for all three
+    "bonus_inside_friction": ("black_formatted", {
         "particle_mass = 1\n": "particle_mass = 0.5\n",
         "initial_velocity = ti.Vector([0.0, 0.0, 0.0])": "initial_velocity = ti.Vector([1.0, 0.0, -0.5])",
         "initial_angular_velocity = ti.Vector([0.0, 0, 0.0])": "initial_angular_velocity = ti.Vector([0.0, 3.0, 1.0])",

@@ -12,8 +12,8 @@ and its print flood and writes to HOME cost nothing. Original batch: files in
 the course's original handout format (tests/data/original_handout/ in the real
 handout's shape, and grading_original_variants.py's variants of it, detected as
 such; graded with --original-handout, so each child starts from the kernels of
-the handout solved): solved after black, and bonus terms inside TODOs with
-other parameters, score 90/90 with their notes, unsolved 0, and files that
+the handout solved): bonus terms inside TODOs with other parameters, in a file
+formatted by black, score 90/90 with their notes, unsolved 0, and files that
 carry several variants each (grading_original_variants.COMBINED) lose exactly
 the TODOs of their mistakes, known or not, a lost marker, a syntax error and an
 endless loop in TODO 6 (within the time limit), while edits of the given code
@@ -23,6 +23,7 @@ summary is written beside the CSV. All write JSON and CSV. The self-check
 """
 import csv
 import json
+import re
 import subprocess
 import sys
 import time
@@ -50,7 +51,7 @@ ORIGINAL_TIMEOUT = 4
 # End to end, the original format's variants folded into few files: each grading costs ~4 CPU-s (the
 # file's kernels compile for each version of it), whatever the file holds. Every variant of
 # grading_original_variants.py is graded as one of these files, or one of its parts, or is left out here:
-ORIGINAL_FULL = ("black_formatted", "bonus_inside_friction")
+ORIGINAL_FULL = ("bonus_inside_friction",)
 ORIGINAL_WRONG = ("marker_syntax_unrotated", "unknown_mistakes_edits_hang6", "mistakes_ab")
 ZIPPED = "mistakes_ab"  # in dan's zip, with the mesh it reads
 ORIGINAL = (*ORIGINAL_FULL, "unsolved", *(n for n in ORIGINAL_WRONG if n != ZIPPED))
@@ -59,9 +60,11 @@ LEFT_OUT = {  # variant: why it is not graded end to end
     **dict.fromkeys(("t1_no_mass", "t2_no_mass", "t3_sign", "t4_swapped_cross", "t5_no_dt", "t6_no_half", "t7_order"),
                     "mistakes_ab"),
     "marker_variants": "their regions: test_grading_original.py, line by line", "layout": "the same",
-    # black_formatted is the same file after black, graded to the same verdicts and messages (measured:
-    # identical), and the batch's warm-up (--original-handout) grades the handout solved end to end
-    "solved": "black_formatted",
+    # black_formatted is bonus_inside_friction's base, graded as that file: one full-marks grading for both
+    # (measured: the same verdicts, messages and notes, but line numbers, as that file before black).
+    # solved.py is the base of the wrong files, whose right TODOs pass velocity-first, and the batch's
+    # warm-up (--original-handout) grades the handout solved end to end
+    "black_formatted": "bonus_inside_friction", "solved": "black_formatted, and the warm-up",
     "bonus_inside": "bonus_inside_friction", "bonus_friction": "bonus_inside_friction",
 }
 
@@ -222,11 +225,20 @@ def test_original_format_right_files_score_full_with_their_notes(batches, name):
 def test_original_format_unsolved_zero_and_the_details(batches):
     res = batches["result"]["original"]
     assert all(r["format"] == "project" for r in batches["result"]["main"].values())
-    assert "agree with the reference lines" in res["black_formatted"]["todos"]["4"]["message"]  # solved.py after black
-    assert "velocity-first" in res["black_formatted"]["todos"]["5"]["message"]  # the 2023 hint's order
-    assert "position-first" in res["bonus_inside_friction"]["todos"]["5"]["message"]
-    bonus = next(n for n in res["bonus_inside_friction"]["notes"] if n.startswith("bonus terms"))
+    black = res["bonus_inside_friction"]  # in black's layout: its multi-line TODOs run as the reference's
+    assert all("agree with the reference lines" in t["message"] for t in black["todos"].values()), black["todos"]
+    assert "position-first" in black["todos"]["5"]["message"]
+    assert "velocity-first" in res["marker_syntax_unrotated"]["todos"]["5"]["message"]  # the 2023 hint's order
+    bonus = next(n for n in black["notes"] if n.startswith("bonus terms"))
     assert "(TODO 2)" in bonus and "(TODO 5)" in bonus and "set to 0" in bonus
+    # The given code's edits are the bonus's own, the same as in the file before black: black's
+    # reformatting of the given code is no edit of it
+    edits = next(n for n in black["notes"] if n.startswith("edits of the given code"))
+    assert re.findall(r"line \d+: ([^;]*)", edits) == [
+        "v_t = particle_velocities[i] - ti.Vector([0.0, particle_velocities[i][1], 0.0])",
+        "particle_force[i] -= friction_stiffness * f_collision * v_t", "total_force = ti.Vector([0.0, 0.0, 0.0])",
+        "total_force -= 1e-3 * velocity_damping_stiffness * body_velocity[None]"], edits
+    assert edits.endswith("; 1 given line of the handout removed or rewritten") and "elsewhere" not in edits, edits
     assert res["unsolved"]["total"] == 0
     assert all("not done" in t["message"] for t in res["unsolved"]["todos"].values())
 
