@@ -62,8 +62,9 @@ def init_taichi(arch: str = "cpu", fp64: bool = False, debug: bool = False, quic
     "vulkan" takes any Vulkan device, software ones (Mesa lavapipe) included.
 
     ``quick_compile``: skip Taichi's advanced IR optimisations (``advanced_optimization=False``;
-    LLVM still optimises the machine code). Kernels compile several times faster and run a little
-    slower (report/bench_build.json measures building), so it
+    LLVM still optimises the machine code). Kernels compile faster and run a little slower
+    (report/bench_build.json measures building; the serial frame kernel, which users compile
+    without the costliest pass anyway, gains least), so it
     suits processes that compile much and simulate little: the grader's children, whose runs
     are a few hundred substeps of ten particles, and the test suite (``RIGID_QUICK_COMPILE=1``,
     which every process it starts inherits). Simulations for users keep the default (None:

@@ -31,8 +31,9 @@ import pytest
 
 # Every Taichi process of the suite (workers, and the command lines, reports and notebooks they
 # start, which inherit this) compiles with Taichi's advanced IR optimisations off
-# (rigid.runtime.init_taichi's quick_compile): kernels compile 2-3x faster and run 10-20 %
-# slower, and the suite compiles far more than it simulates. What it tests is the same code;
+# (rigid.runtime.init_taichi's quick_compile): kernels compile faster and run slower, and the
+# suite compiles far more than it simulates, so the whole suite takes less time this way
+# (report/bench_versions.md, "The suite's time"). What it tests is the same code;
 # results differ from the default's by round-off. test_many_bodies' pinned run uses the
 # default, as users do. RIGID_QUICK_COMPILE=0 runs the whole suite with the default.
 os.environ.setdefault("RIGID_QUICK_COMPILE", "1")
